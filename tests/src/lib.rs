@@ -1,0 +1,49 @@
+//! Shared set-ups for the geosph validation tests: particle lattices and random point sets.
+#![warn(missing_docs)]
+
+use geosph_core::{Real, Vector};
+use rand::{Rng, SeedableRng, rngs::StdRng};
+
+/// A regular lattice of `counts[k]` points per axis with spacing `dx`, the first point at
+/// `origin + dx/2` on every axis, each point moved by a uniform random offset in
+/// `[−jitter, jitter]·dx` per axis (seeded, so the set is reproducible).
+pub fn jittered_lattice<const D: usize>(
+    origin: Vector<D>,
+    counts: [usize; D],
+    dx: Real,
+    jitter: Real,
+    seed: u64,
+) -> Vec<Vector<D>> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let total: usize = counts.iter().product();
+    let mut points = Vec::with_capacity(total);
+    for linear in 0..total {
+        let mut rest = linear;
+        let mut x = origin;
+        for k in 0..D {
+            let index = rest % counts[k];
+            rest /= counts[k];
+            let offset = if jitter > 0.0 {
+                rng.random_range(-jitter..=jitter)
+            } else {
+                0.0
+            };
+            x[k] += (index as Real + 0.5 + offset) * dx;
+        }
+        points.push(x);
+    }
+    points
+}
+
+/// `n` points drawn uniformly from the box `[min, max)` (seeded).
+pub fn random_points<const D: usize>(
+    min: Vector<D>,
+    max: Vector<D>,
+    n: usize,
+    seed: u64,
+) -> Vec<Vector<D>> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| Vector::<D>::from_fn(|k, _| rng.random_range(min[k]..max[k])))
+        .collect()
+}

@@ -1,0 +1,1 @@
+//! Validation tests of geosph: one test binary, one module per subject.
