@@ -1,0 +1,70 @@
+//! Time derivatives of the particle state and the trait of systems that compute them.
+
+use geosph_core::{Particles, Real, Tensor3, Vector};
+
+/// The time derivatives of one particle set, written by [`ExplicitSystem::rates`].
+///
+/// `position_correction` is added to the velocity when positions are advanced
+/// (dx/dt = v + δv), e.g. the XSPH term of Monaghan (1989); it is zero when unused.
+/// `stress_rate` exists only for solid (soil) systems.
+#[derive(Clone, Debug, Default)]
+pub struct Rates<const D: usize> {
+    /// dv/dt.
+    pub acceleration: Vec<Vector<D>>,
+    /// dρ/dt.
+    pub density_rate: Vec<Real>,
+    /// δv in dx/dt = v + δv.
+    pub position_correction: Vec<Vector<D>>,
+    /// dσ/dt (objective rate already included), for soil.
+    pub stress_rate: Option<Vec<Tensor3>>,
+}
+
+impl<const D: usize> Rates<D> {
+    /// Zero rates for `n` particles; with a stress rate when `with_stress`.
+    pub fn zeros(n: usize, with_stress: bool) -> Self {
+        Self {
+            acceleration: vec![Vector::zeros(); n],
+            density_rate: vec![0.0; n],
+            position_correction: vec![Vector::zeros(); n],
+            stress_rate: with_stress.then(|| vec![Tensor3::zeros(); n]),
+        }
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.acceleration.len()
+    }
+
+    /// Whether there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.acceleration.is_empty()
+    }
+
+    /// Largest |dv/dt|, reduced in a fixed order.
+    pub fn max_acceleration(&self) -> Real {
+        self.acceleration
+            .iter()
+            .fold(0.0, |m: Real, a| m.max(a.norm()))
+    }
+}
+
+/// A particle system advanced by an explicit [`crate::Integrator`].
+///
+/// The integrator owns the scheme; the system owns the physics. Per step the integrator calls
+/// [`ExplicitSystem::prepare`] once (neighbour search on the positions at the start of the
+/// step, or after the drift for leap-frog), then [`ExplicitSystem::rates`] once per stage, and
+/// [`ExplicitSystem::finish_stage`] after each state update (e.g. a plastic return map or a
+/// density clamp).
+pub trait ExplicitSystem<const D: usize> {
+    /// The error a system reports (e.g. a particle leaving the domain).
+    type Error;
+
+    /// Brings neighbour lists and other position-dependent data up to date.
+    fn prepare(&mut self, particles: &mut Particles<D>) -> Result<(), Self::Error>;
+
+    /// Computes the time derivatives of `particles` at time `time` into `rates`.
+    fn rates(&mut self, particles: &Particles<D>, time: Real, rates: &mut Rates<D>);
+
+    /// Applies constraints after the state was updated (return mapping, clamping); default none.
+    fn finish_stage(&mut self, _particles: &mut Particles<D>) {}
+}
