@@ -15,7 +15,9 @@ pub struct Permutation {
 
 /// The order given to [`Permutation::from_order`] is not a permutation of `0..n`.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("not a permutation: entry {position} is {value}, which is out of range or repeated (n = {len})")]
+#[error(
+    "not a permutation: entry {position} is {value}, which is out of range or repeated (n = {len})"
+)]
 pub struct NotAPermutation {
     /// Position of the offending entry.
     pub position: usize,

@@ -105,6 +105,16 @@ impl<const D: usize> Integrator<D> {
         &self.rates
     }
 
+    /// Reorders the cached rates with the particles (after a Z-order sort between steps).
+    pub fn permute(&mut self, permutation: &geosph_core::Permutation) {
+        permutation.apply(&mut self.rates.acceleration);
+        permutation.apply(&mut self.rates.density_rate);
+        permutation.apply(&mut self.rates.position_correction);
+        if let Some(stress_rate) = &mut self.rates.stress_rate {
+            permutation.apply(stress_rate);
+        }
+    }
+
     /// Forgets cached rates, e.g. after particles were changed outside the integrator.
     pub fn invalidate(&mut self) {
         self.rates_current = false;
@@ -177,7 +187,12 @@ impl<const D: usize> Integrator<D> {
                 system.prepare(particles)?;
                 start.save(particles);
                 // (time offset of the stage, offset of the next stage, weight), Δt units.
-                let stages = [(0.0, 0.5, 1.0), (0.5, 0.5, 2.0), (0.5, 1.0, 2.0), (1.0, 0.0, 1.0)];
+                let stages = [
+                    (0.0, 0.5, 1.0),
+                    (0.5, 0.5, 2.0),
+                    (0.5, 1.0, 2.0),
+                    (1.0, 0.0, 1.0),
+                ];
                 for (k, &(offset, next, weight)) in stages.iter().enumerate() {
                     system.rates(particles, time + offset * dt, rates);
                     position_rate(x_rate, &particles.velocity, &rates.position_correction);
@@ -189,7 +204,12 @@ impl<const D: usize> Integrator<D> {
                     }
                 }
                 // The accumulated position rate sits in `position_correction`.
-                start.advance(particles, &accumulated.position_correction, accumulated, dt / 6.0);
+                start.advance(
+                    particles,
+                    &accumulated.position_correction,
+                    accumulated,
+                    dt / 6.0,
+                );
                 system.finish_stage(particles);
             }
         }
@@ -218,8 +238,18 @@ impl<const D: usize> StartState<D> {
 
     /// v ← v_saved + Δt a, ρ ← ρ_saved + Δt ρ̇, σ ← σ_saved + Δt σ̇.
     fn kick_from_saved(&self, particles: &mut Particles<D>, rates: &Rates<D>, dt: Real) {
-        from_start(&mut particles.velocity, &self.velocity, &rates.acceleration, dt);
-        from_start(&mut particles.density, &self.density, &rates.density_rate, dt);
+        from_start(
+            &mut particles.velocity,
+            &self.velocity,
+            &rates.acceleration,
+            dt,
+        );
+        from_start(
+            &mut particles.density,
+            &self.density,
+            &rates.density_rate,
+            dt,
+        );
         if let (Some(soil), Some(start), Some(rate)) =
             (&mut particles.soil, &self.stress, &rates.stress_rate)
         {
@@ -236,8 +266,18 @@ impl<const D: usize> StartState<D> {
         dt: Real,
     ) {
         from_start(&mut particles.position, &self.position, x_rate, dt);
-        from_start(&mut particles.velocity, &self.velocity, &rates.acceleration, dt);
-        from_start(&mut particles.density, &self.density, &rates.density_rate, dt);
+        from_start(
+            &mut particles.velocity,
+            &self.velocity,
+            &rates.acceleration,
+            dt,
+        );
+        from_start(
+            &mut particles.density,
+            &self.density,
+            &rates.density_rate,
+            dt,
+        );
         if let (Some(soil), Some(start), Some(rate)) =
             (&mut particles.soil, &self.stress, &rates.stress_rate)
         {
@@ -246,7 +286,11 @@ impl<const D: usize> StartState<D> {
     }
 }
 
-fn kick_density_and_stress<const D: usize>(particles: &mut Particles<D>, rates: &Rates<D>, dt: Real) {
+fn kick_density_and_stress<const D: usize>(
+    particles: &mut Particles<D>,
+    rates: &Rates<D>,
+    dt: Real,
+) {
     add_scaled(&mut particles.density, &rates.density_rate, dt);
     if let (Some(soil), Some(stress_rate)) = (&mut particles.soil, &rates.stress_rate) {
         add_scaled(&mut soil.stress, stress_rate, dt);
@@ -270,7 +314,11 @@ fn accumulate<const D: usize>(
 }
 
 /// ẋ = v + δv.
-fn position_rate<const D: usize>(out: &mut [Vector<D>], velocity: &[Vector<D>], correction: &[Vector<D>]) {
+fn position_rate<const D: usize>(
+    out: &mut [Vector<D>],
+    velocity: &[Vector<D>],
+    correction: &[Vector<D>],
+) {
     out.par_iter_mut()
         .zip(velocity)
         .zip(correction)

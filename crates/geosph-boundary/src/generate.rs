@@ -1,0 +1,208 @@
+//! Particle generators: lattice-filled boxes and polygons, and wall particles of tanks.
+//!
+//! All generators place particles at the centres of a lattice of spacing dx aligned with the
+//! lower corner of the region, so a fluid block and the tank around it share one lattice and
+//! the first wall layer sits dx/2 behind the wall surface.
+
+use geosph_core::{Real, Vector};
+
+use crate::walls::WallParticles;
+
+/// Number of lattice cells of size `dx` across `length`, tolerant of round-off
+/// (a length of 1.0 with dx = 0.1 gives 10, not 11).
+fn cell_count(length: Real, dx: Real) -> usize {
+    let cells = length / dx;
+    let rounded = cells.round();
+    if (cells - rounded).abs() < 1e-6 * cells.max(1.0) {
+        rounded.max(0.0) as usize
+    } else {
+        cells.ceil().max(0.0) as usize
+    }
+}
+
+/// Visits the integer lattice `lower..upper` (per axis, exclusive) in x-fastest order.
+fn for_each_cell<const D: usize>(
+    lower: [i64; D],
+    upper: [i64; D],
+    mut visit: impl FnMut([i64; D]),
+) {
+    if (0..D).any(|k| upper[k] <= lower[k]) {
+        return;
+    }
+    let mut index = lower;
+    loop {
+        visit(index);
+        let mut k = 0;
+        loop {
+            index[k] += 1;
+            if index[k] < upper[k] {
+                break;
+            }
+            index[k] = lower[k];
+            k += 1;
+            if k == D {
+                return;
+            }
+        }
+    }
+}
+
+/// Lattice points `min + (i + ½) dx` filling the box `[min, max)`.
+pub fn fill_box<const D: usize>(min: &Vector<D>, max: &Vector<D>, dx: Real) -> Vec<Vector<D>> {
+    let mut upper = [0_i64; D];
+    for k in 0..D {
+        upper[k] = cell_count(max[k] - min[k], dx) as i64;
+    }
+    let mut points = Vec::new();
+    for_each_cell([0; D], upper, |index| {
+        points.push(Vector::<D>::from_fn(|k, _| {
+            min[k] + (index[k] as Real + 0.5) * dx
+        }));
+    });
+    points
+}
+
+/// Whether `x` lies inside the polygon `vertices` (even–odd rule).
+pub fn polygon_contains(vertices: &[Vector<2>], x: &Vector<2>) -> bool {
+    let mut inside = false;
+    let n = vertices.len();
+    for a in 0..n {
+        let (p, q) = (vertices[a], vertices[(a + 1) % n]);
+        if (p[1] > x[1]) != (q[1] > x[1]) {
+            let crossing = p[0] + (x[1] - p[1]) / (q[1] - p[1]) * (q[0] - p[0]);
+            if x[0] < crossing {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// Lattice points of spacing dx (aligned with `origin`) inside a 2D polygon.
+pub fn fill_polygon(vertices: &[Vector<2>], origin: &Vector<2>, dx: Real) -> Vec<Vector<2>> {
+    let mut lower = [i64::MAX; 2];
+    let mut upper = [i64::MIN; 2];
+    for v in vertices {
+        for k in 0..2 {
+            lower[k] = lower[k].min(((v[k] - origin[k]) / dx).floor() as i64);
+            upper[k] = upper[k].max(((v[k] - origin[k]) / dx).ceil() as i64);
+        }
+    }
+    let mut points = Vec::new();
+    for_each_cell(lower, upper, |index| {
+        let x = Vector::<2>::new(
+            origin[0] + (index[0] as Real + 0.5) * dx,
+            origin[1] + (index[1] as Real + 0.5) * dx,
+        );
+        if polygon_contains(vertices, &x) {
+            points.push(x);
+        }
+    });
+    points
+}
+
+/// Dummy particles of a tank whose inner (fluid) space is the box `[min, max)`: `layers`
+/// layers of lattice points of spacing dx outside the box, on every face but the top (the
+/// last axis' upper face) when `open_top`.
+///
+/// Each particle's normal points from it to the nearest point of the box and its depth is the
+/// distance to that point (corner particles point diagonally). The volume is dx^D and the
+/// density starts at `rest_density`.
+pub fn tank<const D: usize>(
+    min: &Vector<D>,
+    max: &Vector<D>,
+    dx: Real,
+    layers: usize,
+    open_top: bool,
+    rest_density: Real,
+) -> WallParticles<D> {
+    let layers = layers as i64;
+    let mut lower = [0_i64; D];
+    let mut upper = [0_i64; D];
+    let mut inner = [0_i64; D];
+    for k in 0..D {
+        inner[k] = cell_count(max[k] - min[k], dx) as i64;
+        lower[k] = -layers;
+        upper[k] = inner[k] + layers;
+    }
+    if open_top {
+        upper[D - 1] = inner[D - 1];
+    }
+    let mut position = Vec::new();
+    let mut normal = Vec::new();
+    let mut depth = Vec::new();
+    for_each_cell(lower, upper, |index| {
+        if (0..D).all(|k| index[k] >= 0 && index[k] < inner[k]) {
+            return;
+        }
+        let x = Vector::<D>::from_fn(|k, _| min[k] + (index[k] as Real + 0.5) * dx);
+        let nearest = Vector::<D>::from_fn(|k, _| x[k].clamp(min[k], max[k]));
+        let offset = nearest - x;
+        let distance = offset.norm();
+        position.push(x);
+        normal.push(offset / distance);
+        depth.push(distance);
+    });
+    WallParticles::fixed(position, normal, depth, dx.powi(D as i32), rest_density)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn box_fill_counts_and_centres() {
+        let points = fill_box(
+            &Vector::<2>::new(0.0, 0.0),
+            &Vector::<2>::new(1.0, 2.0),
+            0.1,
+        );
+        assert_eq!(points.len(), 10 * 20);
+        assert_relative_eq!(points[0][0], 0.05);
+        assert_relative_eq!(points[199][1], 1.95, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn tank_layers_surround_the_box() {
+        let dx = 0.1;
+        let walls = tank(
+            &Vector::<2>::new(0.0, 0.0),
+            &Vector::<2>::new(1.0, 1.0),
+            dx,
+            3,
+            true,
+            1000.0,
+        );
+        // bottom: (10 + 6) × 3, two sides: 3 × 10 each
+        assert_eq!(walls.len(), 16 * 3 + 2 * 30);
+        for i in 0..walls.len() {
+            let x = walls.position[i];
+            assert!(x[0] < 0.0 || x[0] > 1.0 || x[1] < 0.0, "{x:?} is inside");
+            assert!(walls.depth[i] >= 0.5 * dx - 1e-12);
+            assert_relative_eq!(walls.normal[i].norm(), 1.0, epsilon = 1e-12);
+        }
+        let closed = tank(
+            &Vector::<3>::zeros(),
+            &Vector::<3>::repeat(1.0),
+            dx,
+            2,
+            false,
+            1000.0,
+        );
+        assert_eq!(closed.len(), 14 * 14 * 14 - 10 * 10 * 10);
+    }
+
+    #[test]
+    fn polygon_fill_matches_area() {
+        let triangle = [
+            Vector::<2>::new(0.0, 0.0),
+            Vector::<2>::new(2.0, 0.0),
+            Vector::<2>::new(0.0, 1.0),
+        ];
+        let dx = 0.01;
+        let points = fill_polygon(&triangle, &Vector::<2>::zeros(), dx);
+        let area = points.len() as Real * dx * dx;
+        assert_relative_eq!(area, 1.0, max_relative = 0.02);
+    }
+}

@@ -1,0 +1,255 @@
+//! Scene-level configuration of the fluid solvers, and the factory that builds a solver from
+//! it with every option resolved to a type.
+
+use geosph_boundary::{DummyAdami2012, Slip, WallParticles};
+use geosph_core::{Domain, Particles, Real, Vector};
+use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
+use geosph_neighbours::SearchError;
+use geosph_time::{Integrator, Scheme};
+use serde::{Deserialize, Serialize};
+
+use crate::diffusion::{DeltaAntuono2010, DeltaMolteni2009, DensityDiffusion, NoDiffusion};
+use crate::eos::{EosKind, EquationOfState};
+use crate::solver::{FluidSolver, Wcsph};
+use crate::viscosity::{ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Viscosity};
+use crate::wcsph::{DensityMode, WcsphSystem};
+
+/// The viscous term of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ViscosityConfig {
+    /// No viscosity.
+    None,
+    /// Monaghan (1992) artificial viscosity.
+    Artificial {
+        /// α, typically 0.01–0.1.
+        alpha: Real,
+        /// β, usually 0 for liquids.
+        #[serde(default)]
+        beta: Real,
+    },
+    /// Morris et al. (1997) laminar viscosity.
+    Laminar {
+        /// ν in m²/s (water: 1e-6).
+        kinematic_viscosity: Real,
+    },
+}
+
+/// The density-diffusion term of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum DiffusionConfig {
+    /// No diffusion.
+    None,
+    /// Molteni & Colagrossi (2009).
+    Molteni {
+        /// δ, typically 0.1.
+        delta: Real,
+    },
+    /// Antuono et al. (2010), with renormalised density gradients.
+    Antuono {
+        /// δ, typically 0.1.
+        delta: Real,
+    },
+}
+
+/// Density by continuity or by summation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DensityConfig {
+    /// Continuity equation (default).
+    #[default]
+    Continuity,
+    /// Kernel summation over fluid and walls.
+    Summation,
+}
+
+/// Parameters of weakly compressible SPH.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct WcsphConfig {
+    /// Equation of state (default Tait, γ = 7).
+    pub equation_of_state: EosKind,
+    /// Reference sound speed c₀ in m/s; `None`: 10 × the expected largest speed √(2 g H).
+    pub sound_speed: Option<Real>,
+    /// Continuity or summation.
+    pub density: DensityConfig,
+    /// δ-SPH density diffusion (default Molteni, δ = 0.1).
+    pub diffusion: DiffusionConfig,
+    /// Viscous term (default artificial, α = 0.02).
+    pub viscosity: ViscosityConfig,
+    /// XSPH factor ε (default 0: off).
+    pub xsph: Real,
+    /// Steps between Shepard density re-initialisations (default 0: never).
+    pub shepard_every: usize,
+    /// Clamp negative pressure to zero (default false).
+    pub clamp_negative_pressure: bool,
+    /// Time integrator (default leap-frog).
+    pub integrator: Scheme,
+    /// Courant number of the acoustic time-step limit (default 0.25).
+    pub cfl: Real,
+    /// Steps between Z-order sorts (default 100).
+    pub reorder_every: usize,
+    /// Wall slip condition (default no-slip).
+    pub wall_slip: Slip,
+}
+
+impl Default for WcsphConfig {
+    fn default() -> Self {
+        Self {
+            equation_of_state: EosKind::Tait { gamma: 7.0 },
+            sound_speed: None,
+            density: DensityConfig::Continuity,
+            diffusion: DiffusionConfig::Molteni { delta: 0.1 },
+            viscosity: ViscosityConfig::Artificial {
+                alpha: 0.02,
+                beta: 0.0,
+            },
+            xsph: 0.0,
+            shepard_every: 0,
+            clamp_negative_pressure: false,
+            integrator: Scheme::LeapFrog,
+            cfl: 0.25,
+            reorder_every: 100,
+            wall_slip: Slip::NoSlip,
+        }
+    }
+}
+
+/// Everything a fluid solver needs besides its configuration.
+pub struct FluidSetup<const D: usize> {
+    /// The smoothing kernel's name.
+    pub kernel: KernelKind,
+    /// Smoothing length h.
+    pub smoothing_length: Real,
+    /// Domain.
+    pub domain: Domain<D>,
+    /// Rest density ρ₀.
+    pub rest_density: Real,
+    /// Reference sound speed c₀ (already resolved from `sound_speed` or the default rule).
+    pub sound_speed: Real,
+    /// Gravity.
+    pub gravity: Vector<D>,
+    /// Wall particles.
+    pub walls: WallParticles<D>,
+}
+
+/// Builds the WCSPH solver that `config` describes, monomorphised over the kernel, viscosity
+/// and diffusion it names.
+pub fn build_wcsph<const D: usize>(
+    config: &WcsphConfig,
+    setup: FluidSetup<D>,
+    fluid: &mut Particles<D>,
+) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+    let (kernel, h) = (setup.kernel, setup.smoothing_length);
+    kernel.dispatch::<D, _>(
+        h,
+        WcsphBuilder {
+            config,
+            setup,
+            fluid,
+        },
+    )
+}
+
+struct WcsphBuilder<'a, const D: usize> {
+    config: &'a WcsphConfig,
+    setup: FluidSetup<D>,
+    fluid: &'a mut Particles<D>,
+}
+
+impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
+    type Output = Result<Box<dyn FluidSolver<D>>, SearchError>;
+
+    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
+        let h = kernel.smoothing_length();
+        let c0 = self.setup.sound_speed;
+        match self.config.viscosity {
+            ViscosityConfig::None => self.with_viscosity(kernel, Inviscid),
+            ViscosityConfig::Artificial { alpha, beta } => self.with_viscosity(
+                kernel,
+                ArtificialMonaghan1992 {
+                    alpha,
+                    beta,
+                    smoothing_length: h,
+                    sound_speed: c0,
+                },
+            ),
+            ViscosityConfig::Laminar {
+                kinematic_viscosity,
+            } => self.with_viscosity(
+                kernel,
+                LaminarMorris1997 {
+                    kinematic_viscosity,
+                    smoothing_length: h,
+                },
+            ),
+        }
+    }
+}
+
+impl<const D: usize> WcsphBuilder<'_, D> {
+    fn with_viscosity<K: Kernel<D>, V: Viscosity<D>>(
+        self,
+        kernel: K,
+        viscosity: V,
+    ) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+        let h = kernel.smoothing_length();
+        let c0 = self.setup.sound_speed;
+        match self.config.diffusion {
+            DiffusionConfig::None => self.finish(kernel, viscosity, NoDiffusion),
+            DiffusionConfig::Molteni { delta } => self.finish(
+                kernel,
+                viscosity,
+                DeltaMolteni2009 {
+                    delta,
+                    smoothing_length: h,
+                    sound_speed: c0,
+                },
+            ),
+            DiffusionConfig::Antuono { delta } => {
+                self.finish(kernel, viscosity, DeltaAntuono2010::new(delta, h, c0))
+            }
+        }
+    }
+
+    fn finish<K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>(
+        self,
+        kernel: K,
+        viscosity: V,
+        diffusion: F,
+    ) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+        let config = self.config;
+        let setup = self.setup;
+        let eos = EquationOfState {
+            kind: config.equation_of_state,
+            rest_density: setup.rest_density,
+            sound_speed: setup.sound_speed,
+        };
+        let wall_condition = DummyAdami2012 {
+            gravity: setup.gravity,
+            slip: config.wall_slip,
+        };
+        let mut system = WcsphSystem::new(
+            kernel,
+            setup.domain,
+            eos,
+            viscosity,
+            diffusion,
+            setup.gravity,
+            setup.walls,
+            wall_condition,
+        )?;
+        system.xsph = config.xsph;
+        system.clamp_negative_pressure = config.clamp_negative_pressure;
+        system.density_mode = match config.density {
+            DensityConfig::Continuity => DensityMode::Continuity,
+            DensityConfig::Summation => DensityMode::Summation,
+        };
+        let integrator = Integrator::new(config.integrator, self.fluid.len(), false);
+        let mut solver = Wcsph::new(system, integrator, self.fluid);
+        solver.cfl = config.cfl;
+        solver.reorder_every = config.reorder_every;
+        solver.shepard_every = config.shepard_every;
+        Ok(Box::new(solver))
+    }
+}

@@ -1,0 +1,165 @@
+//! The fluid-solver interface the runner steps, and the WCSPH solver behind it.
+
+use geosph_boundary::WallParticles;
+use geosph_core::{Particles, Real};
+use geosph_kernels::Kernel;
+use geosph_neighbours::SearchError;
+use geosph_time::{Integrator, StepLimits, time_step};
+use rayon::prelude::*;
+
+use crate::diffusion::DensityDiffusion;
+use crate::viscosity::Viscosity;
+use crate::wcsph::WcsphSystem;
+
+/// What one step did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepReport {
+    /// The time step taken.
+    pub dt: Real,
+    /// Pressure iterations (1 for explicit solvers).
+    pub iterations: usize,
+    /// Mean relative density error |ρ − ρ₀|/ρ₀ over the fluid.
+    pub density_error_mean: Real,
+    /// Largest relative density error.
+    pub density_error_max: Real,
+}
+
+/// Why a step failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    /// The neighbour search failed, e.g. a particle left the domain.
+    #[error(transparent)]
+    Search(#[from] SearchError),
+}
+
+/// A fluid solver: one method, stepped by the runner. Dispatch happens once per step; the hot
+/// loops inside are monomorphised over kernel and physics terms.
+pub trait FluidSolver<const D: usize>: Send {
+    /// The method's name, e.g. "wcsph".
+    fn name(&self) -> &'static str;
+
+    /// Advances the fluid from `time` by one step of at most `max_dt`.
+    fn step(
+        &mut self,
+        fluid: &mut Particles<D>,
+        time: Real,
+        max_dt: Real,
+    ) -> Result<StepReport, SolverError>;
+
+    /// The wall particles, with their current pressure.
+    fn walls(&self) -> &WallParticles<D>;
+
+    /// The reference sound speed c₀ (0 for incompressible solvers).
+    fn sound_speed(&self) -> Real;
+}
+
+/// Mean and maximum of |ρ/ρ₀ − 1|; the mean is summed in index order so it does not depend on
+/// the number of threads.
+pub fn density_errors(density: &[Real], rest_density: Real) -> (Real, Real) {
+    let max = density
+        .par_iter()
+        .map(|rho| (rho / rest_density - 1.0).abs())
+        .reduce(|| 0.0, Real::max);
+    let sum: Real = density
+        .iter()
+        .map(|rho| (rho / rest_density - 1.0).abs())
+        .sum();
+    (sum / density.len().max(1) as Real, max)
+}
+
+/// Largest |v| of `velocity`.
+pub fn max_speed<const D: usize>(velocity: &[geosph_core::Vector<D>]) -> Real {
+    velocity
+        .par_iter()
+        .map(|v| v.norm())
+        .reduce(|| 0.0, Real::max)
+}
+
+/// Weakly compressible SPH: [`WcsphSystem`] advanced by an explicit [`Integrator`] with the
+/// adaptive step of [`time_step`], Z-order sorting every `reorder_every` steps and Shepard
+/// density re-initialisation every `shepard_every` steps (0: never).
+pub struct Wcsph<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> {
+    /// The physics.
+    pub system: WcsphSystem<D, K, V, F>,
+    /// The time integrator.
+    pub integrator: Integrator<D>,
+    /// Courant number of the acoustic limit.
+    pub cfl: Real,
+    /// Steps between Z-order sorts of the particles (0: never).
+    pub reorder_every: usize,
+    /// Steps between Shepard density re-initialisations (0: never).
+    pub shepard_every: usize,
+    steps: usize,
+}
+
+impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Wcsph<D, K, V, F> {
+    /// A solver for `fluid`; creates its pressure field from the current density.
+    pub fn new(
+        system: WcsphSystem<D, K, V, F>,
+        integrator: Integrator<D>,
+        fluid: &mut Particles<D>,
+    ) -> Self {
+        fluid.enable_pressure();
+        system.update_pressure(fluid);
+        Self {
+            system,
+            integrator,
+            cfl: 0.25,
+            reorder_every: 100,
+            shepard_every: 0,
+            steps: 0,
+        }
+    }
+}
+
+impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> FluidSolver<D>
+    for Wcsph<D, K, V, F>
+{
+    fn name(&self) -> &'static str {
+        "wcsph"
+    }
+
+    fn step(
+        &mut self,
+        fluid: &mut Particles<D>,
+        time: Real,
+        max_dt: Real,
+    ) -> Result<StepReport, SolverError> {
+        if self.reorder_every > 0 && self.steps % self.reorder_every == 0 {
+            let grid = self.system.fluid_grid_mut();
+            grid.build(&fluid.position)?;
+            let permutation = grid.z_order(&fluid.position)?;
+            fluid.permute(&permutation);
+            self.integrator.permute(&permutation);
+        }
+        self.system.shepard_due =
+            self.shepard_every > 0 && self.steps > 0 && self.steps % self.shepard_every == 0;
+        let gravity = self.system.gravity.norm();
+        let limits = StepLimits {
+            cfl: self.cfl,
+            smoothing_length: self.system.kernel.smoothing_length(),
+            sound_speed: self.system.eos.sound_speed,
+            max_speed: max_speed(&fluid.velocity),
+            max_acceleration: self.integrator.rates().max_acceleration().max(gravity),
+            kinematic_viscosity: self.system.viscosity.kinematic_viscosity(),
+        };
+        let dt = time_step(&limits).min(max_dt);
+        self.integrator.step(&mut self.system, fluid, time, dt)?;
+        self.steps += 1;
+        let (mean, max) = density_errors(&fluid.density, self.system.eos.rest_density);
+        Ok(StepReport {
+            dt,
+            iterations: 1,
+            density_error_mean: mean,
+            density_error_max: max,
+        })
+    }
+
+    fn walls(&self) -> &WallParticles<D> {
+        &self.system.walls
+    }
+
+    fn sound_speed(&self) -> Real {
+        self.system.eos.sound_speed
+    }
+}
