@@ -6,7 +6,7 @@
 //! `.<stem>.tmp.<extension>` in the target's folder (hidden, same file system, and keeping the
 //! extension for encoders that choose the format by it); a name that does not change between
 //! attempts means a run killed mid-write leaves at most one stale temporary file per target,
-//! overwritten by the next attempt. After the rename the folder itself is synced (Unix), so the
+//! overwritten by the next attempt (and that one target must have one writer at a time). After the rename the folder itself is synced (Unix), so the
 //! new name survives a power loss too.
 
 use std::ffi::OsString;

@@ -1,0 +1,135 @@
+#!/usr/bin/env python3
+"""Reads geosph output with VTK itself, as ParaView would.
+
+Usage: python3 check_vtk.py FOLDER   (needs `pip install vtk`)
+
+For every `.vtu` under FOLDER: vtkXMLUnstructuredGridReader must read it without errors, with
+as many points as the file declares, one vertex cell per point, and every point array with one
+tuple per point and 1, 3 or 9 components. For every `.pvd`: VTK's vtkXMLDataParser and Python's
+xml.etree must parse it, it must be a `Collection` whose DataSets have numeric, non-decreasing
+timesteps and existing files. Prints one line per file; exits with status 1 on any failure.
+
+Sample output to check: `GEOSPH_IO_SAMPLE_DIR=FOLDER cargo test -p geosph-io sample_output`.
+"""
+
+import sys
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+
+import vtk
+
+
+def catch_errors(vtk_object):
+    """Returns the list that collects the VTK error messages of `vtk_object` from now on."""
+    messages = []
+
+    @vtk.calldata_type(vtk.VTK_STRING)
+    def on_error(_caller, _event, message):
+        messages.append(message)
+
+    vtk_object.AddObserver("ErrorEvent", on_error)
+    return messages
+
+
+def declared_layout(path):
+    """Number of points (summed over pieces) and point arrays (of the first piece) in the XML."""
+    points, arrays, in_point_data, pieces = 0, 0, False, 0
+    for event, element in ElementTree.iterparse(path, events=("start", "end")):
+        if event == "start":
+            if element.tag == "Piece":
+                pieces += 1
+                points += int(element.get("NumberOfPoints", "-1"))
+            elif element.tag == "PointData":
+                in_point_data = True
+            elif element.tag == "DataArray" and in_point_data and pieces == 1:
+                arrays += 1
+        else:
+            if element.tag == "PointData":
+                in_point_data = False
+            element.clear()  # keep memory flat on large frames
+    return points, arrays
+
+
+def check_vtu(path):
+    """Returns a list of problems with the .vtu at `path` (empty when fine)."""
+    try:
+        declared, declared_arrays = declared_layout(path)
+    except (ElementTree.ParseError, ValueError) as error:
+        return [f"not the expected XML: {error}"]
+
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    errors = catch_errors(reader)
+    reader.SetFileName(str(path))
+    reader.Update()
+    problems = [f"VTK error: {m.strip()}" for m in errors]
+    grid = reader.GetOutput()
+    points = grid.GetNumberOfPoints()
+    if points != declared:
+        problems.append(f"{points} points read, {declared} declared")
+    if grid.GetNumberOfCells() != points:
+        problems.append(f"{grid.GetNumberOfCells()} cells for {points} points")
+    elif points > 0 and grid.GetCellType(points - 1) != vtk.VTK_VERTEX:
+        problems.append("cells are not VTK_VERTEX")
+    data = grid.GetPointData()
+    arrays = []
+    for i in range(data.GetNumberOfArrays()):
+        array = data.GetArray(i)
+        name, components = array.GetName(), array.GetNumberOfComponents()
+        arrays.append(f"{name}[{components}]")
+        if array.GetNumberOfTuples() != points:
+            problems.append(f"array {name}: {array.GetNumberOfTuples()} tuples for {points} points")
+        if components not in (1, 3, 9):
+            problems.append(f"array {name}: {components} components")
+    if declared_arrays != data.GetNumberOfArrays():
+        problems.append(f"{data.GetNumberOfArrays()} point arrays read, {declared_arrays} declared")
+    print(f"  {path.name}: {points} points, arrays {', '.join(arrays) or '-'}")
+    return problems
+
+
+def check_pvd(path):
+    """Returns a list of problems with the .pvd at `path` (empty when fine)."""
+    problems = []
+    parser = vtk.vtkXMLDataParser()
+    errors = catch_errors(parser)
+    parser.SetFileName(str(path))
+    if not parser.Parse():
+        problems.append("vtkXMLDataParser failed: " + "; ".join(errors))
+    root = ElementTree.parse(path).getroot()
+    if root.tag != "VTKFile" or root.get("type") != "Collection":
+        problems.append(f"root is <{root.tag} type={root.get('type')!r}>, not a VTK Collection")
+    times = []
+    for data_set in root.iter("DataSet"):
+        file = data_set.get("file")
+        try:
+            times.append(float(data_set.get("timestep")))
+        except (TypeError, ValueError):
+            problems.append(f"DataSet {file}: timestep {data_set.get('timestep')!r}")
+        if file is None or not (path.parent / file).is_file():
+            problems.append(f"DataSet file {file!r} does not exist")
+    if any(later < earlier for earlier, later in zip(times, times[1:])):
+        problems.append(f"timesteps decrease: {times}")
+    print(f"  {path.name}: {len(times)} data sets, times {times}")
+    return problems
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    folder = Path(sys.argv[1])
+    files = sorted(folder.rglob("*.vtu")) + sorted(folder.rglob("*.pvd"))
+    files = [f for f in files if not f.name.startswith(".")]  # skip temporaries of a live run
+    if not files:
+        sys.exit(f"no .vtu or .pvd files under {folder}")
+    print(f"VTK {vtk.vtkVersion.GetVTKVersion()}, {len(files)} files under {folder}")
+    failures = 0
+    for path in files:
+        problems = check_vtu(path) if path.suffix == ".vtu" else check_pvd(path)
+        for problem in problems:
+            print(f"FAIL {path}: {problem}")
+        failures += bool(problems)
+    print(f"{len(files) - failures} of {len(files)} files OK")
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
