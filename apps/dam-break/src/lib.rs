@@ -1,0 +1,352 @@
+//! The dam-break application: runs a dam-break scene with the geosph runner, tracks the surge
+//! front and the residual column height, and compares them with the experiments of Martin &
+//! Moyce (1952) and the frictionless shallow-water bound of Ritter (1892).
+//!
+//! The column is a wide and n²a high with n² = 2 (the scene's first fluid block), released
+//! against the wall at its left. Martin & Moyce scale the front as Z = x/a against
+//! T = t √(2g/a) and the height as H = h/(2a) against τ = t √(g/a); the two time scales differ
+//! by √2. `main.rs` is a thin command line around [`run`].
+#![warn(missing_docs)]
+
+mod reference;
+
+use std::path::Path;
+
+use geosph_core::{Particles, Real};
+use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
+use geosph_runner::{Observer, RunOptions, Summary};
+use geosph_scene::{Region, Scene};
+
+pub use reference::{ReferenceCurve, martin_moyce_column_height, martin_moyce_front};
+
+/// The embedded default scene (`data/scenes/dam-break-2d.ron`).
+pub const DEFAULT_SCENE: &str = include_str!("../../../data/scenes/dam-break-2d.ron");
+
+/// Errors of a dam-break run.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The scene is not a dam break this app can measure.
+    #[error("scene: {0}")]
+    Scene(String),
+    /// The run failed.
+    #[error(transparent)]
+    Run(#[from] geosph_runner::RunError),
+    /// Writing the app's own output failed.
+    #[error(transparent)]
+    Output(#[from] geosph_io::Error),
+}
+
+/// The column: its back wall, width a and height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Column {
+    /// x of the back wall (the column's left face).
+    pub wall: Real,
+    /// Width a.
+    pub width: Real,
+    /// Initial height.
+    pub height: Real,
+    /// Gravity magnitude g.
+    pub gravity: Real,
+    /// Band next to the wall in which the column height is measured.
+    pub band: Real,
+}
+
+impl Column {
+    /// The column of `scene`: its first fluid block, which must be a box.
+    pub fn of(scene: &Scene) -> Result<Self, Error> {
+        let fluid = scene
+            .fluid
+            .as_ref()
+            .ok_or_else(|| Error::Scene("the scene has no fluid".into()))?;
+        let Some(Region::Box { min, max }) = fluid.blocks.first() else {
+            return Err(Error::Scene(
+                "the first fluid block must be a Box (the column)".into(),
+            ));
+        };
+        let up = scene.dimension - 1;
+        let gravity = scene
+            .gravity
+            .as_ref()
+            .map_or(9.81, |g| g.iter().map(|c| c * c).sum::<Real>().sqrt());
+        Ok(Self {
+            wall: min[0],
+            width: max[0] - min[0],
+            height: max[up] - min[up],
+            gravity,
+            band: 2.0 * scene.dx,
+        })
+    }
+
+    /// Martin & Moyce's front time scale √(2g/a).
+    pub fn front_time_scale(&self) -> Real {
+        (2.0 * self.gravity / self.width).sqrt()
+    }
+
+    /// Martin & Moyce's height time scale √(g/a).
+    pub fn height_time_scale(&self) -> Real {
+        (self.gravity / self.width).sqrt()
+    }
+}
+
+/// One sample of the flow: time, front position and column height at the wall.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// t in s.
+    pub time: Real,
+    /// Front position measured from the back wall, m.
+    pub front: Real,
+    /// Height of the water at the back wall, m.
+    pub height: Real,
+}
+
+/// Tracks the surge front (the largest x of any fluid particle) and the column height (the
+/// highest particle within two dx of the back wall), at every sample time.
+#[derive(Clone, Debug)]
+pub struct FrontTracker {
+    column: Column,
+    /// The samples so far.
+    pub samples: Vec<Sample>,
+}
+
+impl FrontTracker {
+    /// A tracker for `column`.
+    pub fn new(column: Column) -> Self {
+        Self {
+            column,
+            samples: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> Observer<D> for FrontTracker {
+    fn columns(&self) -> Vec<&'static str> {
+        vec!["x_front", "column_height"]
+    }
+
+    fn sample(&mut self, time: Real, fluid: &Particles<D>, row: &mut Vec<Real>) {
+        let up = D - 1;
+        let column = self.column;
+        let front = fluid
+            .position
+            .iter()
+            .map(|x| x[0] - column.wall)
+            .fold(0.0, Real::max);
+        let height = fluid
+            .position
+            .iter()
+            .filter(|x| x[0] - column.wall < column.band)
+            .map(|x| x[up])
+            .fold(0.0, Real::max);
+        row.extend_from_slice(&[front, height]);
+        self.samples.push(Sample {
+            time,
+            front,
+            height,
+        });
+    }
+}
+
+/// The comparison with the references.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Validation {
+    /// RMS of Z_sim − Z_exp over the experimental front points within the run.
+    pub front_rms: Real,
+    /// Largest |Z_sim − Z_exp|.
+    pub front_max: Real,
+    /// Experimental front points compared.
+    pub front_points: usize,
+    /// RMS of H_sim − H_exp over the experimental height points within the run.
+    pub height_rms: Real,
+    /// Largest |H_sim − H_exp|.
+    pub height_max: Real,
+    /// Experimental height points compared.
+    pub height_points: usize,
+    /// The first sample (T, Z) ahead of Ritter's bound Z = 1 + 2T, if any.
+    pub ahead_of_ritter: Option<(Real, Real)>,
+}
+
+impl std::fmt::Display for Validation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "front vs Martin & Moyce (1952)   RMS ΔZ = {:.3}, max ΔZ = {:.3} over {} points",
+            self.front_rms, self.front_max, self.front_points
+        )?;
+        writeln!(
+            f,
+            "height vs Martin & Moyce (1952)  RMS ΔH = {:.3}, max ΔH = {:.3} over {} points",
+            self.height_rms, self.height_max, self.height_points
+        )?;
+        match self.ahead_of_ritter {
+            None => write!(f, "Ritter bound Z ≤ 1 + 2T           respected"),
+            Some((t, z)) => write!(
+                f,
+                "Ritter bound Z ≤ 1 + 2T           VIOLATED at T = {t:.3} (Z = {z:.3})"
+            ),
+        }
+    }
+}
+
+/// Linear interpolation of the samples (x, y) at `x0`; `None` outside their range.
+fn interpolate(x: &[Real], y: &[Real], x0: Real) -> Option<Real> {
+    let k = x.partition_point(|&v| v < x0);
+    if k == 0 {
+        return (x.first() == Some(&x0)).then(|| y[0]);
+    }
+    if k == x.len() {
+        return None;
+    }
+    let w = (x0 - x[k - 1]) / (x[k] - x[k - 1]);
+    Some(y[k - 1] + w * (y[k] - y[k - 1]))
+}
+
+/// Differences between the simulated curve and reference points inside its time range:
+/// (RMS, max, count).
+fn compare(sim_x: &[Real], sim_y: &[Real], reference: &ReferenceCurve) -> (Real, Real, usize) {
+    let errors: Vec<Real> = reference
+        .x
+        .iter()
+        .zip(&reference.y)
+        .filter_map(|(&x, &y)| interpolate(sim_x, sim_y, x).map(|s| s - y))
+        .collect();
+    let count = errors.len();
+    let rms = (errors.iter().map(|e| e * e).sum::<Real>() / count.max(1) as Real).sqrt();
+    let max = errors.iter().fold(0.0, |m: Real, e| m.max(e.abs()));
+    (rms, max, count)
+}
+
+/// Scales the samples to Martin & Moyce's variables and compares them.
+pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
+    let t_front: Vec<Real> = samples
+        .iter()
+        .map(|s| s.time * column.front_time_scale())
+        .collect();
+    let z: Vec<Real> = samples.iter().map(|s| s.front / column.width).collect();
+    let t_height: Vec<Real> = samples
+        .iter()
+        .map(|s| s.time * column.height_time_scale())
+        .collect();
+    let h: Vec<Real> = samples.iter().map(|s| s.height / column.height).collect();
+    let (front_rms, front_max, front_points) = compare(&t_front, &z, &martin_moyce_front());
+    let (height_rms, height_max, height_points) =
+        compare(&t_height, &h, &martin_moyce_column_height());
+    // Ritter's bound with a tolerance of one particle spacing for the front's discreteness.
+    let slack = column.band / column.width;
+    let ahead_of_ritter = t_front
+        .iter()
+        .zip(&z)
+        .find(|&(&t, &z)| z > 1.0 + 2.0 * t + slack)
+        .map(|(&t, &z)| (t, z));
+    Validation {
+        front_rms,
+        front_max,
+        front_points,
+        height_rms,
+        height_max,
+        height_points,
+        ahead_of_ritter,
+    }
+}
+
+/// The result of a dam-break run.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// The runner's summary.
+    pub summary: Summary,
+    /// Front and height samples.
+    pub samples: Vec<Sample>,
+    /// Comparison with the references (only for columns with n² = 2).
+    pub validation: Option<Validation>,
+}
+
+/// Runs `scene`; with an output folder, also writes `front.csv`, `front.png` and `height.png`.
+pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
+    let column = Column::of(scene)?;
+    let mut tracker = FrontTracker::new(column);
+    let summary = geosph_runner::run(scene, options, &mut tracker)?;
+    let samples = tracker.samples;
+    // Martin & Moyce's data are for n² = 2 only.
+    let validation =
+        ((column.height / column.width - 2.0).abs() < 1e-6).then(|| validate(&column, &samples));
+    if let Some(dir) = &options.out_dir {
+        write_outputs(dir, &column, &samples)?;
+    }
+    Ok(Report {
+        summary,
+        samples,
+        validation,
+    })
+}
+
+fn write_outputs(dir: &Path, column: &Column, samples: &[Sample]) -> Result<(), Error> {
+    write_csv_atomically(
+        dir.join("front.csv"),
+        &["t", "x_front", "column_height"],
+        samples.iter().map(|s| [s.time, s.front, s.height]),
+    )?;
+    let t_front: Vec<Real> = samples
+        .iter()
+        .map(|s| s.time * column.front_time_scale())
+        .collect();
+    let z: Vec<Real> = samples.iter().map(|s| s.front / column.width).collect();
+    let ritter_t = [0.0, t_front.last().copied().unwrap_or(0.0)];
+    let ritter_z = [1.0, 1.0 + 2.0 * ritter_t[1]];
+    let front_reference = martin_moyce_front();
+    line_plot_png(
+        dir.join("front.png"),
+        &PlotSpec {
+            title: "Dam break: surge front",
+            x_label: "T = t √(2g/a)",
+            y_label: "Z = x / a",
+            lines: vec![
+                Series {
+                    label: "geosph",
+                    x: &t_front,
+                    y: &z,
+                },
+                Series {
+                    label: "Ritter (1892), Z = 1 + 2T",
+                    x: &ritter_t,
+                    y: &ritter_z,
+                },
+            ],
+            points: vec![Series {
+                label: "Martin & Moyce (1952)",
+                x: &front_reference.x,
+                y: &front_reference.y,
+            }],
+            y_range: Some((
+                1.0,
+                (z.iter().copied().fold(4.0, Real::max) * 1.05).min(10.0),
+            )),
+            ..Default::default()
+        },
+    )?;
+    let t_height: Vec<Real> = samples
+        .iter()
+        .map(|s| s.time * column.height_time_scale())
+        .collect();
+    let h: Vec<Real> = samples.iter().map(|s| s.height / column.height).collect();
+    let height_reference = martin_moyce_column_height();
+    line_plot_png(
+        dir.join("height.png"),
+        &PlotSpec {
+            title: "Dam break: residual column height at the wall",
+            x_label: "τ = t √(g/a)",
+            y_label: "H = h / (2a)",
+            lines: vec![Series {
+                label: "geosph",
+                x: &t_height,
+                y: &h,
+            }],
+            points: vec![Series {
+                label: "Martin & Moyce (1952)",
+                x: &height_reference.x,
+                y: &height_reference.y,
+            }],
+            y_range: Some((0.0, 1.05)),
+            ..Default::default()
+        },
+    )?;
+    Ok(())
+}

@@ -1,0 +1,112 @@
+//! The output folder of a run.
+
+use std::path::{Path, PathBuf};
+
+use geosph_boundary::WallParticles;
+use geosph_core::{Particles, Real};
+use geosph_io::{CsvSeries, Error, Field, Frame, PvdCollection, write_vtu_sets};
+
+/// Frames (`frames/<name>_NNNNNN.vtu`), their series `<name>.pvd` and `diagnostics.csv` in one
+/// folder. Every file is written atomically, so a killed run leaves only complete files.
+pub struct RunOutput {
+    dir: PathBuf,
+    name: String,
+    pvd: Option<PvdCollection>,
+    csv: CsvSeries,
+    frames: usize,
+}
+
+/// Columns of `diagnostics.csv` that every run writes, before the observer's.
+pub const DIAGNOSTIC_COLUMNS: [&str; 7] = [
+    "time",
+    "step",
+    "dt",
+    "kinetic_energy",
+    "density_error_mean",
+    "density_error_max",
+    "max_speed",
+];
+
+impl RunOutput {
+    /// Creates `dir` (and `dir/frames` when `vtk`) and the CSV with `extra_columns`.
+    pub fn create(
+        dir: &Path,
+        name: &str,
+        vtk: bool,
+        extra_columns: &[&str],
+    ) -> Result<Self, Error> {
+        let frames = dir.join("frames");
+        let make = |path: &Path| {
+            std::fs::create_dir_all(path).map_err(|source| Error::Io {
+                path: path.to_path_buf(),
+                source,
+            })
+        };
+        make(dir)?;
+        let pvd = if vtk {
+            make(&frames)?;
+            Some(PvdCollection::create(dir.join(format!("{name}.pvd")))?)
+        } else {
+            None
+        };
+        let mut columns: Vec<&str> = DIAGNOSTIC_COLUMNS.to_vec();
+        columns.extend_from_slice(extra_columns);
+        let csv = CsvSeries::create(dir.join("diagnostics.csv"), &columns)?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            name: name.to_owned(),
+            pvd,
+            csv,
+            frames: 0,
+        })
+    }
+
+    /// The folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Number of frames written.
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    /// Writes the fluid (set 0) and the walls (set 1) at `time` as the next frame and adds it
+    /// to the `.pvd`; does nothing when VTK output is off.
+    pub fn write_frame<const D: usize>(
+        &mut self,
+        time: Real,
+        fluid: &Particles<D>,
+        walls: &WallParticles<D>,
+    ) -> Result<(), Error> {
+        let Some(pvd) = &mut self.pvd else {
+            return Ok(());
+        };
+        let file = format!("frames/{}_{:06}.vtu", self.name, self.frames);
+        let mut fluid_frame = Frame::new(&fluid.position)
+            .with(Field::vector("velocity", &fluid.velocity))
+            .with(Field::scalar("density", &fluid.density))
+            .with(Field::integer("id", &fluid.id));
+        if let Some(pressure) = &fluid.pressure {
+            fluid_frame = fluid_frame.with(Field::scalar("pressure", pressure));
+        }
+        let wall_frame = Frame::new(&walls.position)
+            .with(Field::vector("velocity", &walls.velocity))
+            .with(Field::scalar("density", &walls.density))
+            .with(Field::scalar("pressure", &walls.pressure));
+        write_vtu_sets(self.dir.join(&file), &[fluid_frame, wall_frame])?;
+        pvd.add(time, &file)?;
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// Appends a row to `diagnostics.csv`.
+    pub fn sample(&mut self, row: &[Real]) -> Result<(), Error> {
+        self.csv.push(row)
+    }
+
+    /// Flushes the CSV.
+    pub fn flush(&mut self) -> Result<(), Error> {
+        self.csv.flush()
+    }
+}

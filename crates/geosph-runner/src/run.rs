@@ -1,0 +1,325 @@
+//! The run loop.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use geosph_core::{Particles, Real};
+use geosph_fluid::config::FluidSetup;
+use geosph_fluid::{FluidSolver, SolverError, build_wcsph};
+use geosph_scene::{Scene, SceneError, SolverSpec};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::health::{self, Diagnosis};
+use crate::observer::Observer;
+use crate::output::RunOutput;
+
+/// How to run a scene, beyond what the scene says.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Output folder; `None` writes nothing.
+    pub out_dir: Option<PathBuf>,
+    /// Override the scene's VTU output switch.
+    pub vtk: Option<bool>,
+    /// Worker threads (default: rayon's, one per core).
+    pub threads: Option<usize>,
+    /// Show a progress bar on standard error.
+    pub progress: bool,
+}
+
+/// What a run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Summary {
+    /// Scene name.
+    pub scene: String,
+    /// Solver name.
+    pub solver: &'static str,
+    /// 2 or 3.
+    pub dimension: usize,
+    /// Fluid particles.
+    pub fluid_particles: usize,
+    /// Wall particles.
+    pub wall_particles: usize,
+    /// Time steps taken.
+    pub steps: usize,
+    /// Simulated time reached, s.
+    pub simulated_time: Real,
+    /// Wall-clock time of the stepping loop (output included), s.
+    pub wall_time: Real,
+    /// Fluid particle-steps per wall-clock second.
+    pub particle_steps_per_second: Real,
+    /// Largest relative density error seen at any step.
+    pub max_density_error: Real,
+    /// Mean relative density error over all steps.
+    pub mean_density_error: Real,
+    /// Bytes per fluid particle held by its fields.
+    pub bytes_per_particle: usize,
+    /// VTU frames written.
+    pub frames: usize,
+}
+
+impl std::fmt::Display for Summary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "scene              {} ({}D, {})",
+            self.scene, self.dimension, self.solver
+        )?;
+        writeln!(
+            f,
+            "particles          {} fluid + {} wall ({} bytes of fields per fluid particle)",
+            self.fluid_particles, self.wall_particles, self.bytes_per_particle
+        )?;
+        writeln!(
+            f,
+            "steps              {} to t = {:.4} s (mean dt = {:.3e} s)",
+            self.steps,
+            self.simulated_time,
+            self.simulated_time / self.steps.max(1) as Real
+        )?;
+        writeln!(
+            f,
+            "wall time          {:.2} s, {:.3} M particle-steps/s",
+            self.wall_time,
+            self.particle_steps_per_second * 1e-6
+        )?;
+        write!(
+            f,
+            "density error      mean {:.3} %, max {:.3} %",
+            100.0 * self.mean_density_error,
+            100.0 * self.max_density_error
+        )
+    }
+}
+
+/// Why a run stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The scene is invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The solver failed (e.g. a particle left the domain).
+    #[error("at t = {time:.5} s, step {step}: {source}")]
+    Solver {
+        /// Simulated time of the failure.
+        time: Real,
+        /// Step of the failure.
+        step: usize,
+        /// The failure.
+        source: SolverError,
+    },
+    /// The run blew up; the last good frame is on disk.
+    #[error(
+        "blow-up at t = {time:.5} s, step {step}: {quantity}{particle}: {explanation}",
+        quantity = diagnosis.quantity,
+        particle = diagnosis.particle.map(|(i, id)| format!(" of particle {i} (id {id})")).unwrap_or_default(),
+        explanation = diagnosis.explanation
+    )]
+    BlowUp {
+        /// Simulated time of the failed step.
+        time: Real,
+        /// The failed step.
+        step: usize,
+        /// What went wrong.
+        diagnosis: Diagnosis,
+    },
+    /// Writing output failed.
+    #[error("output: {0}")]
+    Output(#[from] geosph_io::Error),
+    /// The thread pool could not be built.
+    #[error("threads: {0}")]
+    Threads(String),
+}
+
+/// Runs `scene` to its end time, calling `observer` at every sample time.
+pub fn run<O>(scene: &Scene, options: &RunOptions, observer: &mut O) -> Result<Summary, RunError>
+where
+    O: Observer<2> + Observer<3> + Send,
+{
+    scene.validate()?;
+    let mut work = || match scene.dimension {
+        2 => run_in::<2, O>(scene, options, observer),
+        _ => run_in::<3, O>(scene, options, observer),
+    };
+    match options.threads {
+        Some(threads) => rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|error| RunError::Threads(error.to_string()))?
+            .install(work),
+        None => work(),
+    }
+}
+
+fn kinetic_energy<const D: usize>(fluid: &Particles<D>) -> Real {
+    fluid
+        .velocity
+        .iter()
+        .zip(&fluid.mass)
+        .map(|(v, m)| 0.5 * m * v.norm_squared())
+        .sum()
+}
+
+fn progress_bar(options: &RunOptions, end_time: Real) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(
+        Some((end_time * 1e4).ceil() as u64),
+        if options.progress {
+            ProgressDrawTarget::stderr_with_hz(4)
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} t = {msg} [{elapsed_precise}, ETA {eta}]")
+            .expect("a valid template"),
+    );
+    bar
+}
+
+fn run_in<const D: usize, O: Observer<D>>(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut O,
+) -> Result<Summary, RunError> {
+    let setup = geosph_scene::build::<D>(scene)?;
+    let mut fluid = setup.fluid;
+    let rest_density = setup.rest_density;
+    let wall_particles = setup.walls.len();
+    let SolverSpec::Wcsph(config) = &scene.solver;
+    let fluid_setup = FluidSetup {
+        kernel: setup.kernel,
+        smoothing_length: setup.smoothing_length,
+        domain: setup.domain,
+        rest_density,
+        sound_speed: setup.sound_speed,
+        gravity: setup.gravity,
+        walls: setup.walls,
+    };
+    let mut solver: Box<dyn FluidSolver<D>> = build_wcsph(config, fluid_setup, &mut fluid)
+        .map_err(|source| RunError::Solver {
+            time: 0.0,
+            step: 0,
+            source: source.into(),
+        })?;
+
+    let vtk = options.vtk.unwrap_or(scene.output.vtk);
+    let mut output = match &options.out_dir {
+        Some(dir) => Some(RunOutput::create(
+            dir,
+            &scene.name,
+            vtk,
+            &observer.columns(),
+        )?),
+        None => None,
+    };
+    let mut row = Vec::new();
+    let mut sample = |time: Real,
+                      step: usize,
+                      report: &geosph_fluid::StepReport,
+                      fluid: &Particles<D>,
+                      output: &mut Option<RunOutput>|
+     -> Result<(), RunError> {
+        row.clear();
+        row.extend_from_slice(&[
+            time,
+            step as Real,
+            report.dt,
+            kinetic_energy(fluid),
+            report.density_error_mean,
+            report.density_error_max,
+            geosph_fluid::solver::max_speed(&fluid.velocity),
+        ]);
+        observer.sample(time, fluid, &mut row);
+        if let Some(output) = output {
+            output.sample(&row)?;
+        }
+        Ok(())
+    };
+
+    let end_time = scene.end_time;
+    let bar = progress_bar(options, end_time);
+    let started = Instant::now();
+    let mut time = 0.0;
+    let mut steps = 0;
+    let mut report = geosph_fluid::StepReport::default();
+    let (initial_mean, initial_max) =
+        geosph_fluid::solver::density_errors(&fluid.density, rest_density);
+    report.density_error_mean = initial_mean;
+    report.density_error_max = initial_max;
+    sample(0.0, 0, &report, &fluid, &mut output)?;
+    if let Some(output) = &mut output {
+        output.write_frame(0.0, &fluid, solver.walls())?;
+    }
+    let (output_interval, sample_interval) = (scene.output.interval, scene.output.sample_interval);
+    let mut next_output = output_interval;
+    let mut next_sample = sample_interval;
+    let mut max_density_error: Real = 0.0;
+    let mut density_error_sum = 0.0;
+    let mut last_draw = Instant::now();
+    // Times within this tolerance of an event count as reaching it.
+    let tolerance = 1e-9 * end_time;
+    while time < end_time - tolerance {
+        let next_event = next_output.min(next_sample).min(end_time);
+        report = solver
+            .step(&mut fluid, time, next_event - time)
+            .map_err(|source| RunError::Solver {
+                time,
+                step: steps,
+                source,
+            })?;
+        time += report.dt;
+        steps += 1;
+        if let Some(diagnosis) = health::check(&report, &fluid, rest_density) {
+            bar.finish_and_clear();
+            if let Some(output) = &mut output {
+                output.flush()?;
+            }
+            return Err(RunError::BlowUp {
+                time,
+                step: steps,
+                diagnosis,
+            });
+        }
+        max_density_error = max_density_error.max(report.density_error_max);
+        density_error_sum += report.density_error_mean;
+        if time >= next_sample - tolerance {
+            sample(time, steps, &report, &fluid, &mut output)?;
+            next_sample += sample_interval;
+        }
+        if time >= next_output - tolerance {
+            if let Some(output) = &mut output {
+                output.write_frame(time, &fluid, solver.walls())?;
+            }
+            next_output += output_interval;
+        }
+        if last_draw.elapsed() > Duration::from_millis(250) {
+            last_draw = Instant::now();
+            bar.set_position((time * 1e4) as u64);
+            let rate = steps as Real / started.elapsed().as_secs_f64();
+            bar.set_message(format!("{time:.3} s, {rate:.0} steps/s"));
+        }
+    }
+    bar.finish_and_clear();
+    let wall_time = started.elapsed().as_secs_f64();
+    let frames = match &mut output {
+        Some(output) => {
+            output.flush()?;
+            output.frames()
+        }
+        None => 0,
+    };
+    Ok(Summary {
+        scene: scene.name.clone(),
+        solver: solver.name(),
+        dimension: D,
+        fluid_particles: fluid.len(),
+        wall_particles,
+        steps,
+        simulated_time: time,
+        wall_time,
+        particle_steps_per_second: (fluid.len() * steps) as Real / wall_time,
+        max_density_error,
+        mean_density_error: density_error_sum / steps.max(1) as Real,
+        bytes_per_particle: fluid.bytes_per_particle(),
+        frames,
+    })
+}

@@ -1,0 +1,207 @@
+//! Particles, walls and solver inputs of a scene.
+
+use geosph_boundary::{WallParticles, generate};
+use geosph_core::{Domain, Particles, Real, Vector};
+use geosph_fluid::EquationOfState;
+use geosph_kernels::KernelKind;
+
+use crate::format::{Region, Scene, SolverSpec, WallSpec};
+use crate::validate::SceneError;
+
+/// What a solver is built from: the scene turned into particles and numbers.
+#[derive(Clone, Debug)]
+pub struct Setup<const D: usize> {
+    /// Fluid particles, at rest, with hydrostatic density when asked.
+    pub fluid: Particles<D>,
+    /// Wall particles.
+    pub walls: WallParticles<D>,
+    /// The domain every particle must stay in.
+    pub domain: Domain<D>,
+    /// Kernel.
+    pub kernel: KernelKind,
+    /// Smoothing length h = smoothing_ratio · dx.
+    pub smoothing_length: Real,
+    /// ρ₀ of the fluid.
+    pub rest_density: Real,
+    /// c₀, given or 10 √(2 |g| H).
+    pub sound_speed: Real,
+    /// Gravity.
+    pub gravity: Vector<D>,
+    /// Height H of the fluid (extent along the last axis).
+    pub fluid_height: Real,
+}
+
+fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
+    Vector::<D>::from_fn(|k, _| values[k])
+}
+
+/// Builds the particles and solver inputs of a validated `scene` in `D` dimensions.
+///
+/// # Panics
+/// If `D` differs from `scene.dimension` (a programming error: dispatch on the dimension).
+pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
+    assert_eq!(
+        scene.dimension, D,
+        "scene dimension and build dimension differ"
+    );
+    scene.validate()?;
+    let dx = scene.dx;
+    let up = D - 1;
+    let kernel: KernelKind = scene.kernel.parse().expect("validated");
+    let smoothing_length = scene.smoothing_ratio * dx;
+    let gravity = match &scene.gravity {
+        Some(g) => vector::<D>(g),
+        None => Vector::<D>::from_fn(|k, _| if k == up { -9.81 } else { 0.0 }),
+    };
+    let fluid_spec = scene.fluid.as_ref().expect("validated");
+
+    // Fluid particles and the free-surface height above each (its block's top).
+    let mut position = Vec::new();
+    let mut surface = Vec::new();
+    for block in &fluid_spec.blocks {
+        let points: Vec<Vector<D>> = match block {
+            Region::Box { min, max } => {
+                generate::fill_box(&vector::<D>(min), &vector::<D>(max), dx)
+            }
+            Region::Polygon { vertices } => {
+                let vertices: Vec<Vector<2>> = vertices
+                    .iter()
+                    .map(|&(x, y)| Vector::<2>::new(x, y))
+                    .collect();
+                generate::fill_polygon(&vertices, &Vector::<2>::zeros(), dx)
+                    .into_iter()
+                    .map(|p| Vector::<D>::from_fn(|k, _| p[k]))
+                    .collect()
+            }
+        };
+        let top = points
+            .iter()
+            .map(|p| p[up])
+            .fold(Real::NEG_INFINITY, Real::max)
+            + 0.5 * dx;
+        surface.extend(std::iter::repeat_n(top, points.len()));
+        position.extend(points);
+    }
+    if position.is_empty() {
+        return Err(SceneError::Field {
+            field: "fluid.blocks".into(),
+            message: format!("the blocks hold no particle at dx = {dx}; make them larger than dx"),
+        });
+    }
+    let bottom = position
+        .iter()
+        .map(|p| p[up])
+        .fold(Real::INFINITY, Real::min)
+        - 0.5 * dx;
+    let top = surface.iter().copied().fold(Real::NEG_INFINITY, Real::max);
+    let fluid_height = top - bottom;
+
+    let SolverSpec::Wcsph(config) = &scene.solver;
+    let g = gravity.norm();
+    let sound_speed = match config.sound_speed {
+        Some(c0) => c0,
+        None if g > 0.0 => 10.0 * (2.0 * g * fluid_height).sqrt(),
+        None => {
+            return Err(SceneError::Field {
+                field: "solver.sound_speed".into(),
+                message: "must be given when gravity is zero (the default is 10 √(2 g H))".into(),
+            });
+        }
+    };
+    let rest_density = fluid_spec.density;
+    let eos = EquationOfState {
+        kind: config.equation_of_state,
+        rest_density,
+        sound_speed,
+    };
+    let mass = rest_density * dx.powi(D as i32);
+    let mut fluid = Particles::at_rest(position, mass, rest_density);
+    if fluid_spec.hydrostatic {
+        for (i, rho) in fluid.density.iter_mut().enumerate() {
+            let depth = (surface[i] - fluid.position[i][up]).max(0.0);
+            *rho = eos.density(rest_density * g * depth);
+        }
+    }
+
+    let mut walls = WallParticles::default();
+    for (index, wall) in scene.walls.iter().enumerate() {
+        match wall {
+            WallSpec::Tank {
+                min,
+                max,
+                layers,
+                open_top,
+            } => {
+                let (min, max) = (vector::<D>(min), vector::<D>(max));
+                let tank = generate::tank(&min, &max, dx, *layers, *open_top, rest_density);
+                let margin = 1e-9 * dx;
+                if let Some(i) = fluid.position.iter().position(|x| {
+                    (0..D).any(|k| {
+                        x[k] < min[k] - margin || (x[k] > max[k] + margin && (k != up || !open_top))
+                    })
+                }) {
+                    return Err(SceneError::Field {
+                        field: format!("walls[{index}]"),
+                        message: format!(
+                            "fluid particle {i} at {:?} lies in or beyond the tank's walls",
+                            fluid.position[i].as_slice()
+                        ),
+                    });
+                }
+                walls.extend(tank);
+            }
+        }
+    }
+
+    let domain = match &scene.domain {
+        Some(spec) => {
+            let mut periodic = [false; D];
+            for (k, &p) in spec.periodic.iter().enumerate() {
+                periodic[k] = p;
+            }
+            Domain::with_periodic(vector::<D>(&spec.min), vector::<D>(&spec.max), periodic)
+                .map_err(|error| SceneError::Field {
+                    field: "domain".into(),
+                    message: error.to_string(),
+                })?
+        }
+        None => {
+            let margin = 3.0 * kernel.support_factor() * smoothing_length;
+            let mut min = Vector::<D>::repeat(Real::INFINITY);
+            let mut max = Vector::<D>::repeat(Real::NEG_INFINITY);
+            for x in fluid.position.iter().chain(&walls.position) {
+                min = min.inf(x);
+                max = max.sup(x);
+            }
+            min.add_scalar_mut(-margin);
+            max.add_scalar_mut(margin);
+            max[up] += fluid_height;
+            Domain::new(min, max).expect("a bounding box with margins is never empty")
+        }
+    };
+    for (set, points) in [("fluid", &fluid.position), ("wall", &walls.position)] {
+        if let Some(i) = points.iter().position(|x| !domain.contains(x)) {
+            return Err(SceneError::Field {
+                field: "domain".into(),
+                message: format!(
+                    "{set} particle {i} at {:?} lies outside [{:?}, {:?})",
+                    points[i].as_slice(),
+                    domain.min.as_slice(),
+                    domain.max.as_slice()
+                ),
+            });
+        }
+    }
+
+    Ok(Setup {
+        fluid,
+        walls,
+        domain,
+        kernel,
+        smoothing_length,
+        rest_density,
+        sound_speed,
+        gravity,
+        fluid_height,
+    })
+}

@@ -1,0 +1,217 @@
+//! Validation of a scene before any work is done.
+
+use geosph_core::Real;
+use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
+use geosph_fluid::{EosKind, WcsphConfig};
+use geosph_kernels::KernelKind;
+
+use crate::format::{FluidSpec, Region, Scene, SolverSpec, WallSpec};
+
+/// What is wrong with a scene.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    /// The RON text could not be read (the message has line:column).
+    #[error("scene file: {0}")]
+    Parse(String),
+    /// A value is out of its allowed range.
+    #[error("scene field `{field}`: {message}")]
+    Field {
+        /// The field's path, e.g. `fluid.blocks[0].max`.
+        field: String,
+        /// What is allowed and what was given.
+        message: String,
+    },
+}
+
+fn fail(field: impl Into<String>, message: impl Into<String>) -> SceneError {
+    SceneError::Field {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+fn positive(field: &str, value: Real) -> Result<(), SceneError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(fail(
+            field,
+            format!("must be a finite number > 0, got {value}"),
+        ))
+    }
+}
+
+fn in_range(field: &str, value: Real, low: Real, high: Real) -> Result<(), SceneError> {
+    if value.is_finite() && value >= low && value <= high {
+        Ok(())
+    } else {
+        Err(fail(
+            field,
+            format!("must lie in [{low}, {high}], got {value}"),
+        ))
+    }
+}
+
+fn point(field: &str, values: &[Real], dimension: usize) -> Result<(), SceneError> {
+    if values.len() != dimension {
+        return Err(fail(
+            field,
+            format!(
+                "needs {dimension} coordinates (the scene's dimension), got {}",
+                values.len()
+            ),
+        ));
+    }
+    if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+        return Err(fail(
+            field,
+            format!("coordinates must be finite, got {bad}"),
+        ));
+    }
+    Ok(())
+}
+
+fn boxed(field: &str, min: &[Real], max: &[Real], dimension: usize) -> Result<(), SceneError> {
+    point(&format!("{field}.min"), min, dimension)?;
+    point(&format!("{field}.max"), max, dimension)?;
+    for k in 0..dimension {
+        if min[k] >= max[k] {
+            return Err(fail(
+                format!("{field}.max"),
+                format!(
+                    "must exceed min on axis {k}: min = {}, max = {}",
+                    min[k], max[k]
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl Scene {
+    /// Checks every value against its allowed range; the first violation is returned with the
+    /// field's path, the allowed range and the value.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let dimension = self.dimension;
+        if dimension != 2 && dimension != 3 {
+            return Err(fail(
+                "dimension",
+                format!("must be 2 or 3, got {dimension}"),
+            ));
+        }
+        positive("dx", self.dx)?;
+        in_range("smoothing_ratio", self.smoothing_ratio, 1.0, 2.5)?;
+        let kernel: KernelKind = self
+            .kernel
+            .parse()
+            .map_err(|error: geosph_kernels::UnknownKernel| fail("kernel", error.to_string()))?;
+        if let Some(gravity) = &self.gravity {
+            point("gravity", gravity, dimension)?;
+        }
+        positive("end_time", self.end_time)?;
+        positive("output.interval", self.output.interval)?;
+        positive("output.sample_interval", self.output.sample_interval)?;
+        if let Some(domain) = &self.domain {
+            boxed("domain", &domain.min, &domain.max, dimension)?;
+            if !domain.periodic.is_empty() && domain.periodic.len() != dimension {
+                return Err(fail(
+                    "domain.periodic",
+                    format!(
+                        "needs {dimension} entries or none, got {}",
+                        domain.periodic.len()
+                    ),
+                ));
+            }
+        }
+        match &self.fluid {
+            Some(fluid) => self.validate_fluid(fluid)?,
+            None => return Err(fail("fluid", "the scene has no fluid: nothing to simulate")),
+        }
+        let support_cells = self.smoothing_ratio * kernel.support_factor();
+        for (index, wall) in self.walls.iter().enumerate() {
+            match wall {
+                WallSpec::Tank {
+                    min, max, layers, ..
+                } => {
+                    let field = format!("walls[{index}]");
+                    boxed(&field, min, max, dimension)?;
+                    let needed = (support_cells - 1e-9).ceil() as usize;
+                    if *layers < needed || *layers > 10 {
+                        return Err(fail(
+                            format!("{field}.layers"),
+                            format!(
+                                "must lie in [{needed}, 10] (the kernel support is {support_cells:.2} dx), got {layers}"
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        match &self.solver {
+            SolverSpec::Wcsph(config) => validate_wcsph(config),
+        }
+    }
+
+    fn validate_fluid(&self, fluid: &FluidSpec) -> Result<(), SceneError> {
+        positive("fluid.density", fluid.density)?;
+        if fluid.blocks.is_empty() {
+            return Err(fail("fluid.blocks", "needs at least one region, got none"));
+        }
+        for (index, block) in fluid.blocks.iter().enumerate() {
+            let field = format!("fluid.blocks[{index}]");
+            match block {
+                Region::Box { min, max } => boxed(&field, min, max, self.dimension)?,
+                Region::Polygon { vertices } => {
+                    if self.dimension != 2 {
+                        return Err(fail(field, "polygons exist only in 2D scenes"));
+                    }
+                    if vertices.len() < 3 {
+                        return Err(fail(
+                            format!("{field}.vertices"),
+                            format!("needs at least 3 vertices, got {}", vertices.len()),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn validate_wcsph(config: &WcsphConfig) -> Result<(), SceneError> {
+    if let EosKind::Tait { gamma } = config.equation_of_state {
+        in_range("solver.equation_of_state.gamma", gamma, 1.0, 10.0)?;
+    }
+    if let Some(c0) = config.sound_speed {
+        positive("solver.sound_speed", c0)?;
+    }
+    match config.diffusion {
+        DiffusionConfig::None => {}
+        DiffusionConfig::Molteni { delta } | DiffusionConfig::Antuono { delta } => {
+            in_range("solver.diffusion.delta", delta, 0.0, 1.0)?
+        }
+    }
+    match config.viscosity {
+        ViscosityConfig::None => {}
+        ViscosityConfig::Artificial { alpha, beta } => {
+            in_range("solver.viscosity.alpha", alpha, 0.0, 1.0)?;
+            in_range("solver.viscosity.beta", beta, 0.0, 2.0)?;
+        }
+        ViscosityConfig::Laminar {
+            kinematic_viscosity,
+        } => positive("solver.viscosity.kinematic_viscosity", kinematic_viscosity)?,
+    }
+    in_range("solver.xsph", config.xsph, 0.0, 1.0)?;
+    // Explicit schemes are stable up to C ≈ 0.4 on the acoustic limit (Monaghan 1992); 0.5 is
+    // the most we accept.
+    if !(config.cfl.is_finite() && config.cfl > 0.0 && config.cfl <= 0.5) {
+        return Err(fail(
+            "solver.cfl",
+            format!(
+                "must lie in (0, 0.5] for explicit integration, got {}",
+                config.cfl
+            ),
+        ));
+    }
+    Ok(())
+}
