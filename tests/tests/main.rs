@@ -1,1 +1,4 @@
 //! Validation tests of geosph: one test binary, one module per subject.
+mod corrections;
+mod kernels;
+mod neighbours;

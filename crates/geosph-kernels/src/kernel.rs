@@ -13,7 +13,7 @@ use crate::{CubicSpline, Gaussian, QuinticSpline, WendlandC2, WendlandC4, Wendla
 /// [`Kernel::new`]. Any other `D` is rejected at compile time (a `const` assertion evaluated
 /// when the kernel is instantiated), so `CubicSpline::<4>::new(1.0)` does not build:
 ///
-/// ```compile_fail
+/// ```compile_fail,E0080
 /// use geosph_kernels::{CubicSpline, Kernel};
 /// let kernel = CubicSpline::<4>::new(1.0);
 /// ```
@@ -251,7 +251,10 @@ mod tests {
             assert_eq!(kind.to_string(), kind.name());
         }
         assert_eq!(KernelKind::WendlandC4.name(), "wendland-c4");
-        assert_eq!(<Gaussian<3> as Kernel<3>>::NAME, KernelKind::Gaussian.name());
+        assert_eq!(
+            <Gaussian<3> as Kernel<3>>::NAME,
+            KernelKind::Gaussian.name()
+        );
         let err = "wendland".parse::<KernelKind>().unwrap_err();
         assert!(err.to_string().contains("`wendland`"), "{err}");
     }

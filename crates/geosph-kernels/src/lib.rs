@@ -33,6 +33,9 @@ pub mod shepard;
 pub mod spline;
 pub mod wendland;
 
+#[cfg(test)]
+mod test_support;
+
 pub use gaussian::Gaussian;
 pub use kernel::{Kernel, KernelKind, KernelVisitor, UnknownKernel};
 pub use mls::MlsCoefficients;
