@@ -47,3 +47,33 @@ pub fn random_points<const D: usize>(
         .map(|_| Vector::<D>::from_fn(|k, _| rng.random_range(min[k]..max[k])))
         .collect()
 }
+
+/// An observer that keeps a copy of the fluid at the latest sample time, so a test can inspect
+/// the final state of a run.
+#[derive(Clone, Debug, Default)]
+pub struct FinalState {
+    /// The last 2D sample.
+    pub plane: Option<(Real, geosph_core::Particles<2>)>,
+    /// The last 3D sample.
+    pub space: Option<(Real, geosph_core::Particles<3>)>,
+}
+
+impl geosph_runner::Observer<2> for FinalState {
+    fn columns(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+
+    fn sample(&mut self, time: Real, fluid: &geosph_core::Particles<2>, _row: &mut Vec<Real>) {
+        self.plane = Some((time, fluid.clone()));
+    }
+}
+
+impl geosph_runner::Observer<3> for FinalState {
+    fn columns(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+
+    fn sample(&mut self, time: Real, fluid: &geosph_core::Particles<3>, _row: &mut Vec<Real>) {
+        self.space = Some((time, fluid.clone()));
+    }
+}

@@ -99,11 +99,12 @@ pub struct Sample {
     pub height: Real,
 }
 
-/// Tracks the surge front (the largest x of any fluid particle) and the column height (the
-/// highest particle within two dx of the back wall), at every sample time.
+/// Tracks the surge front (the largest x of any fluid particle) and the column height (the top
+/// of the continuous water column within two dx of the back wall), at every sample time.
 #[derive(Clone, Debug)]
 pub struct FrontTracker {
     column: Column,
+    heights: Vec<Real>,
     /// The samples so far.
     pub samples: Vec<Sample>,
 }
@@ -113,6 +114,7 @@ impl FrontTracker {
     pub fn new(column: Column) -> Self {
         Self {
             column,
+            heights: Vec::new(),
             samples: Vec::new(),
         }
     }
@@ -131,12 +133,24 @@ impl<const D: usize> Observer<D> for FrontTracker {
             .iter()
             .map(|x| x[0] - column.wall)
             .fold(0.0, Real::max);
-        let height = fluid
-            .position
-            .iter()
-            .filter(|x| x[0] - column.wall < column.band)
-            .map(|x| x[up])
-            .fold(0.0, Real::max);
+        self.heights.clear();
+        self.heights.extend(
+            fluid
+                .position
+                .iter()
+                .filter(|x| x[0] - column.wall < column.band)
+                .map(|x| x[up]),
+        );
+        self.heights.sort_by(Real::total_cmp);
+        // The top of the continuous column: climb from the bed until a vertical gap wider
+        // than the band, so droplets clinging to the wall above do not count.
+        let mut height = 0.0;
+        for &y in &self.heights {
+            if y - height > column.band {
+                break;
+            }
+            height = y;
+        }
         row.extend_from_slice(&[front, height]);
         self.samples.push(Sample {
             time,
@@ -289,9 +303,11 @@ fn write_outputs(dir: &Path, column: &Column, samples: &[Sample]) -> Result<(), 
         .map(|s| s.time * column.front_time_scale())
         .collect();
     let z: Vec<Real> = samples.iter().map(|s| s.front / column.width).collect();
-    let ritter_t = [0.0, t_front.last().copied().unwrap_or(0.0)];
-    let ritter_z = [1.0, 1.0 + 2.0 * ritter_t[1]];
     let front_reference = martin_moyce_front();
+    let t_max = 1.2 * front_reference.x.last().copied().unwrap_or(4.0);
+    let z_max = 1.05 * z.iter().copied().fold(4.2, Real::max);
+    let ritter_t = [0.0, (0.5 * (z_max - 1.0)).min(t_max)];
+    let ritter_z = [1.0, 1.0 + 2.0 * ritter_t[1]];
     line_plot_png(
         dir.join("front.png"),
         &PlotSpec {
@@ -315,10 +331,8 @@ fn write_outputs(dir: &Path, column: &Column, samples: &[Sample]) -> Result<(), 
                 x: &front_reference.x,
                 y: &front_reference.y,
             }],
-            y_range: Some((
-                1.0,
-                (z.iter().copied().fold(4.0, Real::max) * 1.05).min(10.0),
-            )),
+            x_range: Some((0.0, t_max)),
+            y_range: Some((1.0, z_max)),
             ..Default::default()
         },
     )?;

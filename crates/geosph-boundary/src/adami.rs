@@ -30,12 +30,18 @@ pub struct FlowView<'a, const D: usize> {
 /// its density from the equation of state, ρ_w = ρ(p_w), and for viscous terms the velocity
 /// ũ_w = 2 u_w − Σ_f v_f W_wf / Σ_f W_wf (no-slip, eq. 22) or the flow's own Shepard velocity
 /// (free-slip). A wall particle without flow neighbours gets p_w = 0 and ũ_w = u_w.
+///
+/// With `clamp_negative` the wall pressure is max(p_w, 0): a wall pushes but never pulls, so
+/// free-surface particles next to a wall (negative pressure from the truncated kernel) do not
+/// stick to it. This departs from Adami et al., who use no clamp.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DummyAdami2012<const D: usize> {
     /// Body-force acceleration g.
     pub gravity: Vector<D>,
     /// No-slip or free-slip.
     pub slip: Slip,
+    /// Clamp negative wall pressure to zero.
+    pub clamp_negative: bool,
 }
 
 impl<const D: usize> DummyAdami2012<D> {
@@ -82,7 +88,12 @@ impl<const D: usize> DummyAdami2012<D> {
                     velocity_sum += flow.velocity[f] * weight;
                 }
                 if weight_sum > 0.0 {
-                    *p_w = (pressure_sum + body.dot(&head_sum)) / weight_sum;
+                    let extrapolated = (pressure_sum + body.dot(&head_sum)) / weight_sum;
+                    *p_w = if self.clamp_negative {
+                        extrapolated.max(0.0)
+                    } else {
+                        extrapolated
+                    };
                     let flow_velocity = velocity_sum / weight_sum;
                     *u_w = match self.slip {
                         Slip::NoSlip => 2.0 * velocity[w] - flow_velocity,

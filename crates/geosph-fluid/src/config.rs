@@ -91,6 +91,8 @@ pub struct WcsphConfig {
     pub reorder_every: usize,
     /// Wall slip condition (default no-slip).
     pub wall_slip: Slip,
+    /// Clamp negative wall pressure to zero, so walls never pull fluid (default true).
+    pub clamp_wall_pressure: bool,
 }
 
 impl Default for WcsphConfig {
@@ -111,6 +113,7 @@ impl Default for WcsphConfig {
             cfl: 0.25,
             reorder_every: 100,
             wall_slip: Slip::NoSlip,
+            clamp_wall_pressure: true,
         }
     }
 }
@@ -228,6 +231,7 @@ impl<const D: usize> WcsphBuilder<'_, D> {
         let wall_condition = DummyAdami2012 {
             gravity: setup.gravity,
             slip: config.wall_slip,
+            clamp_negative: config.clamp_wall_pressure,
         };
         let mut system = WcsphSystem::new(
             kernel,

@@ -67,6 +67,19 @@ pub fn density_errors(density: &[Real], rest_density: Real) -> (Real, Real) {
     (sum / density.len().max(1) as Real, max)
 }
 
+/// The step to take when the stability limit is `stable` and the next event (output, sample,
+/// end) is `max_dt` away: the event itself when it is within reach, half the way when it is
+/// less than two steps away (so no sliver of a step is left before the event), else `stable`.
+pub fn event_step(stable: Real, max_dt: Real) -> Real {
+    if stable >= max_dt {
+        max_dt
+    } else if 2.0 * stable > max_dt {
+        0.5 * max_dt
+    } else {
+        stable
+    }
+}
+
 /// Largest |v| of `velocity`.
 pub fn max_speed<const D: usize>(velocity: &[geosph_core::Vector<D>]) -> Real {
     velocity
@@ -126,6 +139,10 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
         max_dt: Real,
     ) -> Result<StepReport, SolverError> {
         if self.reorder_every > 0 && self.steps % self.reorder_every == 0 {
+            if self.system.domain.is_periodic() {
+                let domain = &self.system.domain;
+                fluid.position.iter_mut().for_each(|x| domain.wrap(x));
+            }
             let grid = self.system.fluid_grid_mut();
             grid.build(&fluid.position)?;
             let permutation = grid.z_order(&fluid.position)?;
@@ -143,7 +160,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
             max_acceleration: self.integrator.rates().max_acceleration().max(gravity),
             kinematic_viscosity: self.system.viscosity.kinematic_viscosity(),
         };
-        let dt = time_step(&limits).min(max_dt);
+        let dt = event_step(time_step(&limits), max_dt);
         self.integrator.step(&mut self.system, fluid, time, dt)?;
         self.steps += 1;
         let (mean, max) = density_errors(&fluid.density, self.system.eos.rest_density);

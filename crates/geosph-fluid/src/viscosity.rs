@@ -24,6 +24,12 @@ pub struct Pair<const D: usize> {
 /// A viscous acceleration term. The pair loop is monomorphised over it, so [`Inviscid`] costs
 /// nothing.
 pub trait Viscosity<const D: usize>: Copy + Send + Sync + 'static {
+    /// Whether the term models physical viscosity, so that walls act on it with their
+    /// mirrored (no-slip) or copied (free-slip) velocity ũ_w; artificial terms see the
+    /// prescribed wall velocity u_w instead, so they damp motion into the wall but exert no
+    /// shear along it.
+    const PHYSICAL: bool;
+
     /// The contribution of neighbour j to dv_i/dt.
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D>;
 
@@ -36,6 +42,8 @@ pub trait Viscosity<const D: usize>: Copy + Send + Sync + 'static {
 pub struct Inviscid;
 
 impl<const D: usize> Viscosity<D> for Inviscid {
+    const PHYSICAL: bool = false;
+
     #[inline(always)]
     fn acceleration(&self, _pair: &Pair<D>) -> Vector<D> {
         Vector::zeros()
@@ -65,6 +73,8 @@ pub struct ArtificialMonaghan1992 {
 }
 
 impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
+    const PHYSICAL: bool = false;
+
     #[inline(always)]
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D> {
         let approach = pair.v_ij.dot(&pair.r_ij);
@@ -97,6 +107,8 @@ pub struct LaminarMorris1997 {
 }
 
 impl<const D: usize> Viscosity<D> for LaminarMorris1997 {
+    const PHYSICAL: bool = true;
+
     #[inline(always)]
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D> {
         let h = self.smoothing_length;

@@ -208,6 +208,10 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
     type Error = SearchError;
 
     fn prepare(&mut self, fluid: &mut Particles<D>) -> Result<(), SearchError> {
+        if self.domain.is_periodic() {
+            let domain = &self.domain;
+            fluid.position.par_iter_mut().for_each(|x| domain.wrap(x));
+        }
         self.fluid_grid.build(&fluid.position)?;
         self.fluid_grid
             .neighbour_list(&fluid.position, &fluid.position, &mut self.fluid_fluid);
@@ -274,7 +278,6 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
         } = self;
         let (kernel, viscosity, diffusion, gravity) = (*kernel, *viscosity, &*diffusion, *gravity);
         let summation = self.density_mode == DensityMode::Summation;
-        let wall_mass_density = eos.rest_density;
         let Particles {
             position,
             velocity,
@@ -321,12 +324,17 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
                     let r2 = r_iw.norm_squared();
                     let grad = r_iw * kernel.gradient_factor(r2.sqrt());
                     let rho_w = walls.density[w];
-                    let mass_w = wall_mass_density * walls.volume[w];
+                    let mass_w = rho_w * walls.volume[w];
                     let pair = Pair {
                         r_ij: r_iw,
                         r2,
                         grad,
-                        v_ij: v_i - walls.viscous_velocity[w],
+                        v_ij: v_i
+                            - if V::PHYSICAL {
+                                walls.viscous_velocity[w]
+                            } else {
+                                walls.velocity[w]
+                            },
                         rho_i,
                         rho_j: rho_w,
                         mass_j: mass_w,

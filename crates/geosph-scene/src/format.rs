@@ -32,7 +32,7 @@ pub struct Scene {
     #[serde(default)]
     pub output: OutputSpec,
     /// Domain box; default: the bounding box of all particles, enlarged by 3 support radii
-    /// and, upwards, by the fluid height.
+    /// and, upwards, by three fluid heights.
     #[serde(default)]
     pub domain: Option<DomainSpec>,
     /// The fluid, if any.

@@ -175,7 +175,8 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
             }
             min.add_scalar_mut(-margin);
             max.add_scalar_mut(margin);
-            max[up] += fluid_height;
+            // Headroom for splashes: a jet at the collapse speed √(2 g H) × 1.7 rises 3 H.
+            max[up] += 3.0 * fluid_height;
             Domain::new(min, max).expect("a bounding box with margins is never empty")
         }
     };

@@ -1,0 +1,281 @@
+//! Weakly compressible SPH against analytic solutions.
+//!
+//! - Hydrostatic tank (2D, 3D): still water of depth H in a tank with Adami dummy walls. After
+//!   settling, the pressure at height y is p = ρ₀ g (H − y) (Adami, Hu & Adams 2012, §5.1); we
+//!   require the layer-averaged pressure, averaged over the second half of the run (the weakly
+//!   damped acoustic breathing of the column, period 4H/c₀ ≈ 0.07 s, is still ±3 % after
+//!   1 s), within 2 % of it below the top three particle layers (5 % for the layer touching
+//!   the bed), no particle through a wall, and the mass exactly conserved.
+//! - Closed periodic box without walls or gravity: the symmetric pressure and viscous forces
+//!   are antisymmetric pair by pair, so total linear momentum is conserved to round-off.
+//! - Bitwise identical results with 1 and 2 threads.
+
+use geosph_core::{Particles, Real, Vector};
+use geosph_fluid::build_wcsph;
+use geosph_fluid::config::FluidSetup;
+use geosph_runner::{RunOptions, run};
+use geosph_scene::Scene;
+use geosph_tests::FinalState;
+
+use rand::{Rng, SeedableRng, rngs::StdRng};
+
+fn hydrostatic_scene(dimension: usize, dx: Real, depth: Real, end_time: Real) -> Scene {
+    let (min, max, tank) = if dimension == 2 {
+        (
+            "[0.0, 0.0]".to_owned(),
+            format!("[1.0, {depth}]"),
+            "[1.0, 1.0]".to_owned(),
+        )
+    } else {
+        (
+            "[0.0, 0.0, 0.0]".to_owned(),
+            format!("[0.4, 0.4, {depth}]"),
+            "[0.4, 0.4, 0.8]".to_owned(),
+        )
+    };
+    let zero = if dimension == 2 {
+        "[0.0, 0.0]"
+    } else {
+        "[0.0, 0.0, 0.0]"
+    };
+    Scene::from_ron(&format!(
+        "Scene(name: \"hydrostatic\", dimension: {dimension}, dx: {dx}, end_time: {end_time},
+            output: (interval: {end_time}, sample_interval: {end_time}, vtk: false),
+            fluid: (blocks: [Box(min: {min}, max: {max})]),
+            walls: [Tank(min: {zero}, max: {tank})],
+            solver: Wcsph(()))"
+    ))
+    .unwrap()
+}
+
+/// Mean pressure of each horizontal particle layer (bins of height dx), with the layer's mean
+/// height; layers within `skip_top` layers of the surface `depth` are left out.
+fn layer_pressures<const D: usize>(
+    fluid: &Particles<D>,
+    dx: Real,
+    depth: Real,
+    skip_top: usize,
+) -> Vec<(Real, Real)> {
+    let pressure = fluid.pressure.as_ref().unwrap();
+    let layers = (depth / dx).round() as usize;
+    let mut sums = vec![(0.0, 0.0, 0usize); layers + 2];
+    for (x, p) in fluid.position.iter().zip(pressure) {
+        let layer = ((x[D - 1] / dx).floor().max(0.0) as usize).min(layers + 1);
+        sums[layer].0 += x[D - 1];
+        sums[layer].1 += p;
+        sums[layer].2 += 1;
+    }
+    sums.iter()
+        .take(layers.saturating_sub(skip_top))
+        .filter(|s| s.2 > 0)
+        .map(|&(y, p, n)| (y / n as Real, p / n as Real))
+        .collect()
+}
+
+/// Accumulates layer-averaged pressures over the samples after `from`.
+#[derive(Default)]
+struct LayerAverage {
+    from: Real,
+    dx: Real,
+    depth: Real,
+    samples: usize,
+    layers: Vec<(Real, Real)>,
+    last: FinalState,
+}
+
+impl LayerAverage {
+    fn add<const D: usize>(&mut self, time: Real, fluid: &Particles<D>) {
+        if time < self.from - 1e-9 {
+            return;
+        }
+        let layers = layer_pressures(fluid, self.dx, self.depth, 3);
+        if self.layers.is_empty() {
+            self.layers = vec![(0.0, 0.0); layers.len()];
+        }
+        for (sum, (y, p)) in self.layers.iter_mut().zip(layers) {
+            sum.0 += y;
+            sum.1 += p;
+        }
+        self.samples += 1;
+    }
+
+    fn mean(&self) -> Vec<(Real, Real)> {
+        let n = self.samples as Real;
+        self.layers.iter().map(|&(y, p)| (y / n, p / n)).collect()
+    }
+}
+
+impl geosph_runner::Observer<2> for LayerAverage {
+    fn columns(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+    fn sample(&mut self, time: Real, fluid: &Particles<2>, row: &mut Vec<Real>) {
+        self.add(time, fluid);
+        geosph_runner::Observer::<2>::sample(&mut self.last, time, fluid, row);
+    }
+}
+
+impl geosph_runner::Observer<3> for LayerAverage {
+    fn columns(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+    fn sample(&mut self, time: Real, fluid: &Particles<3>, row: &mut Vec<Real>) {
+        self.add(time, fluid);
+        geosph_runner::Observer::<3>::sample(&mut self.last, time, fluid, row);
+    }
+}
+
+fn check_hydrostatic<const D: usize>(
+    fluid: &Particles<D>,
+    layers: &[(Real, Real)],
+    initial: usize,
+    dx: Real,
+    depth: Real,
+    wall: Real,
+) {
+    assert_eq!(fluid.len(), initial, "particles were lost");
+    // Mass is carried by particles of constant mass ρ₀ dx^D: conserved exactly when none is
+    // lost and none changes.
+    let particle_mass = 1000.0 * dx.powi(D as i32);
+    assert!(
+        fluid.mass.iter().all(|&m| m == particle_mass),
+        "a particle mass changed"
+    );
+    for x in &fluid.position {
+        for k in 0..D {
+            let upper = if k == D - 1 { Real::INFINITY } else { wall };
+            assert!(x[k] > 0.0 && x[k] < upper, "particle crossed a wall: {x:?}");
+        }
+    }
+    let (rho, g) = (1000.0, 9.81);
+    assert!(layers.len() >= 4, "too few layers: {}", layers.len());
+    for (layer, &(y, p)) in layers.iter().enumerate() {
+        let exact = rho * g * (depth - y);
+        let error = (p - exact).abs() / exact;
+        // The layer touching the bed sees the wall only through the extrapolated dummy
+        // pressure and sits 2–4 % off (measured: −2.3 % in 2D, −3.8 % in 3D with Molteni
+        // diffusion); it gets 5 %, every other layer 2 %.
+        let tolerance = if layer == 0 { 0.05 } else { 0.02 };
+        assert!(
+            error < tolerance,
+            "layer at y = {y:.3}: p = {p:.1} Pa, ρg(H − y) = {exact:.1} Pa, error {:.2} %",
+            100.0 * error
+        );
+    }
+}
+
+fn run_hydrostatic(
+    dimension: usize,
+    dx: Real,
+    depth: Real,
+    end_time: Real,
+) -> (LayerAverage, usize) {
+    let mut scene = hydrostatic_scene(dimension, dx, depth, end_time);
+    scene.output.sample_interval = 0.01;
+    let mut average = LayerAverage {
+        from: 0.5 * end_time,
+        dx,
+        depth,
+        ..Default::default()
+    };
+    let summary = run(&scene, &RunOptions::default(), &mut average).unwrap();
+    (average, summary.fluid_particles)
+}
+
+#[test]
+fn hydrostatic_tank_2d_matches_rho_g_depth() {
+    let (dx, depth) = (0.02, 0.6);
+    let (average, particles) = run_hydrostatic(2, dx, depth, 2.0);
+    let (_, fluid) = average.last.plane.as_ref().unwrap();
+    check_hydrostatic(fluid, &average.mean(), particles, dx, depth, 1.0);
+}
+
+#[test]
+fn hydrostatic_tank_3d_matches_rho_g_depth() {
+    let (dx, depth) = (0.04, 0.4);
+    let (average, particles) = run_hydrostatic(3, dx, depth, 1.2);
+    let (_, fluid) = average.last.space.as_ref().unwrap();
+    check_hydrostatic(fluid, &average.mean(), particles, dx, depth, 0.4);
+}
+
+#[test]
+fn periodic_box_conserves_linear_momentum() {
+    let scene = Scene::from_ron(
+        "Scene(name: \"periodic\", dimension: 2, dx: 0.05, end_time: 1.0, gravity: [0.0, 0.0],
+            domain: (min: [0.0, 0.0], max: [1.0, 1.0], periodic: [true, true]),
+            fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, 1.0])], hydrostatic: false),
+            solver: Wcsph((sound_speed: 10.0, viscosity: Artificial(alpha: 0.1, beta: 0.0),
+                           diffusion: Molteni(delta: 0.1))))",
+    )
+    .unwrap();
+    let setup = geosph_scene::build::<2>(&scene).unwrap();
+    let mut fluid = setup.fluid;
+    let mut rng = StdRng::seed_from_u64(7);
+    for v in &mut fluid.velocity {
+        *v = Vector::<2>::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+    }
+    let momentum = |p: &Particles<2>| -> Vector<2> {
+        p.velocity.iter().zip(&p.mass).map(|(v, m)| v * *m).sum()
+    };
+    let scale: Real = fluid
+        .velocity
+        .iter()
+        .zip(&fluid.mass)
+        .map(|(v, m)| v.norm() * m)
+        .sum();
+    let initial = momentum(&fluid);
+    let geosph_scene::SolverSpec::Wcsph(config) = &scene.solver;
+    let mut solver = build_wcsph(
+        config,
+        FluidSetup {
+            kernel: setup.kernel,
+            smoothing_length: setup.smoothing_length,
+            domain: setup.domain,
+            rest_density: setup.rest_density,
+            sound_speed: setup.sound_speed,
+            gravity: setup.gravity,
+            walls: setup.walls,
+        },
+        &mut fluid,
+    )
+    .unwrap();
+    let mut time = 0.0;
+    for _ in 0..1000 {
+        time += solver.step(&mut fluid, time, 1.0).unwrap().dt;
+    }
+    let drift = (momentum(&fluid) - initial).norm() / scale;
+    // Round-off of ~10³ pair sums per particle over 1000 steps.
+    assert!(
+        drift < 1e-12,
+        "momentum drift {drift:e} (relative to Σ m|v|)"
+    );
+}
+
+#[test]
+fn results_are_identical_for_one_and_two_threads() {
+    let mut scene = Scene::from_ron(dam_break::DEFAULT_SCENE).unwrap();
+    scene.dx = 0.05;
+    scene.end_time = 0.1;
+    scene.output.vtk = false;
+    let mut results = Vec::new();
+    for threads in [1, 2] {
+        let mut state = FinalState::default();
+        let options = RunOptions {
+            threads: Some(threads),
+            ..Default::default()
+        };
+        run(&scene, &options, &mut state).unwrap();
+        results.push(state.plane.unwrap().1);
+    }
+    let (one, two) = (&results[0], &results[1]);
+    assert_eq!(one.id, two.id);
+    for i in 0..one.len() {
+        assert_eq!(one.position[i], two.position[i], "position of particle {i}");
+        assert_eq!(one.velocity[i], two.velocity[i], "velocity of particle {i}");
+        assert_eq!(
+            one.density[i].to_bits(),
+            two.density[i].to_bits(),
+            "density of particle {i}"
+        );
+    }
+}
