@@ -5,5 +5,6 @@
 
 mod kernels;
 mod neighbours;
+mod wcsph;
 
-criterion::criterion_main!(kernels::benches, neighbours::benches);
+criterion::criterion_main!(kernels::benches, neighbours::benches, wcsph::benches);

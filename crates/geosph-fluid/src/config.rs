@@ -93,6 +93,9 @@ pub struct WcsphConfig {
     pub wall_slip: Slip,
     /// Clamp negative wall pressure to zero, so walls never pull fluid (default true).
     pub clamp_wall_pressure: bool,
+    /// Verlet skin of the neighbour lists as a fraction of the support radius (default 0.1;
+    /// 0 rebuilds the lists every step).
+    pub neighbour_skin: Real,
 }
 
 impl Default for WcsphConfig {
@@ -114,6 +117,7 @@ impl Default for WcsphConfig {
             reorder_every: 100,
             wall_slip: Slip::NoSlip,
             clamp_wall_pressure: true,
+            neighbour_skin: 0.1,
         }
     }
 }
@@ -183,7 +187,6 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
                 kernel,
                 LaminarMorris1997 {
                     kinematic_viscosity,
-                    smoothing_length: h,
                 },
             ),
         }
@@ -242,6 +245,7 @@ impl<const D: usize> WcsphBuilder<'_, D> {
             setup.gravity,
             setup.walls,
             wall_condition,
+            config.neighbour_skin,
         )?;
         system.xsph = config.xsph;
         system.clamp_negative_pressure = config.clamp_negative_pressure;

@@ -42,7 +42,7 @@ impl<const D: usize> DensityDiffusion<D> for NoDiffusion {
 /// D_i = δ h c₀ Σ_j ψ_ij · ∇_i W_ij V_j,  ψ_ij = 2 (ρ_j − ρ_i) x_ji / |x_ji|²,
 ///
 /// i.e. 2 δ h c₀ Σ_j (ρ_i − ρ_j) x_ij·∇_i W_ij / (|x_ij|² + 0.01 h²) V_j with x_ij = x_i − x_j
-/// (the 0.01 h² guards coincident particles). It diffuses density differences, including the
+/// (the 0.01 h² guards coincident particles; h is the kernel's, as in [`Pair::inv_r2_eta2`]). It diffuses density differences, including the
 /// hydrostatic stratification, which [`DeltaAntuono2010`] leaves alone.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DeltaMolteni2009 {
@@ -57,13 +57,12 @@ pub struct DeltaMolteni2009 {
 impl DeltaMolteni2009 {
     #[inline(always)]
     fn plain_rate<const D: usize>(&self, pair: &Pair<D>, volume_j: Real) -> Real {
-        let h = self.smoothing_length;
         2.0 * self.delta
-            * h
+            * self.smoothing_length
             * self.sound_speed
             * (pair.rho_i - pair.rho_j)
             * pair.r_ij.dot(&pair.grad)
-            / (pair.r2 + 0.01 * h * h)
+            * pair.inv_r2_eta2
             * volume_j
     }
 }

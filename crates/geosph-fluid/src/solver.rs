@@ -5,7 +5,6 @@ use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_time::{Integrator, StepLimits, time_step};
-use rayon::prelude::*;
 
 use crate::diffusion::DensityDiffusion;
 use crate::viscosity::Viscosity;
@@ -53,17 +52,16 @@ pub trait FluidSolver<const D: usize>: Send {
     fn sound_speed(&self) -> Real;
 }
 
-/// Mean and maximum of |ρ/ρ₀ − 1|; the mean is summed in index order so it does not depend on
-/// the number of threads.
+/// Mean and maximum of |ρ/ρ₀ − 1|, summed in index order so they do not depend on the number
+/// of threads.
 pub fn density_errors(density: &[Real], rest_density: Real) -> (Real, Real) {
-    let max = density
-        .par_iter()
-        .map(|rho| (rho / rest_density - 1.0).abs())
-        .reduce(|| 0.0, Real::max);
-    let sum: Real = density
+    // Sequential: one pass of a few µs per 10⁴ particles, cheaper than waking threads.
+    let (sum, max) = density
         .iter()
-        .map(|rho| (rho / rest_density - 1.0).abs())
-        .sum();
+        .fold((0.0, 0.0), |(sum, max): (Real, Real), rho| {
+            let error = (rho / rest_density - 1.0).abs();
+            (sum + error, max.max(error))
+        });
     (sum / density.len().max(1) as Real, max)
 }
 
@@ -83,9 +81,9 @@ pub fn event_step(stable: Real, max_dt: Real) -> Real {
 /// Largest |v| of `velocity`.
 pub fn max_speed<const D: usize>(velocity: &[geosph_core::Vector<D>]) -> Real {
     velocity
-        .par_iter()
-        .map(|v| v.norm())
-        .reduce(|| 0.0, Real::max)
+        .iter()
+        .fold(0.0, |max: Real, v| max.max(v.norm_squared()))
+        .sqrt()
 }
 
 /// Weakly compressible SPH: [`WcsphSystem`] advanced by an explicit [`Integrator`] with the
@@ -143,7 +141,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
                 let domain = &self.system.domain;
                 fluid.position.iter_mut().for_each(|x| domain.wrap(x));
             }
-            let grid = self.system.fluid_grid_mut();
+            let grid = self.system.fluid_grid_for_sorting();
             grid.build(&fluid.position)?;
             let permutation = grid.z_order(&fluid.position)?;
             fluid.permute(&permutation);

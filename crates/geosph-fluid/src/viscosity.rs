@@ -9,6 +9,8 @@ pub struct Pair<const D: usize> {
     pub r_ij: Vector<D>,
     /// |x_i − x_j|².
     pub r2: Real,
+    /// 1 / (|x_i − x_j|² + 0.01 h²), shared by the terms that divide by the distance.
+    pub inv_r2_eta2: Real,
     /// ∇_i W_ij.
     pub grad: Vector<D>,
     /// v_i − v_j.
@@ -82,7 +84,7 @@ impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
             return Vector::zeros();
         }
         let h = self.smoothing_length;
-        let mu = h * approach / (pair.r2 + 0.01 * h * h);
+        let mu = h * approach * pair.inv_r2_eta2;
         let pi = (-self.alpha * self.sound_speed * mu + self.beta * mu * mu)
             / (0.5 * (pair.rho_i + pair.rho_j));
         pair.grad * (-pair.mass_j * pi)
@@ -102,8 +104,6 @@ impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
 pub struct LaminarMorris1997 {
     /// ν.
     pub kinematic_viscosity: Real,
-    /// h.
-    pub smoothing_length: Real,
 }
 
 impl<const D: usize> Viscosity<D> for LaminarMorris1997 {
@@ -111,11 +111,10 @@ impl<const D: usize> Viscosity<D> for LaminarMorris1997 {
 
     #[inline(always)]
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D> {
-        let h = self.smoothing_length;
         // (μ_i + μ_j)/(ρ_i ρ_j) = ν (ρ_i + ρ_j)/(ρ_i ρ_j)
         let mu_sum =
             self.kinematic_viscosity * (pair.rho_i + pair.rho_j) / (pair.rho_i * pair.rho_j);
-        pair.v_ij * (pair.mass_j * mu_sum * pair.r_ij.dot(&pair.grad) / (pair.r2 + 0.01 * h * h))
+        pair.v_ij * (pair.mass_j * mu_sum * pair.r_ij.dot(&pair.grad) * pair.inv_r2_eta2)
     }
 
     fn kinematic_viscosity(&self) -> Real {
@@ -133,6 +132,7 @@ mod tests {
         Pair {
             r_ij,
             r2: r_ij.norm_squared(),
+            inv_r2_eta2: 1.0 / (r_ij.norm_squared() + 0.01 * 0.013 * 0.013),
             grad: r_ij * -1000.0,
             v_ij,
             rho_i: 1000.0,
@@ -161,7 +161,6 @@ mod tests {
         let nu = 1e-3;
         let visc = LaminarMorris1997 {
             kinematic_viscosity: nu,
-            smoothing_length: 0.013,
         };
         let shear = pair(Vector::<2>::new(0.0, 2.0));
         let a = visc.acceleration(&shear);

@@ -65,12 +65,25 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: Density
     fluid_wall: NeighbourList,
     wall_fluid: NeighbourList,
     volume: Vec<Real>,
+    /// p_i / ρ_i² of every particle, computed once per evaluation.
+    pressure_term: Vec<Real>,
+    /// Verlet skin added to the search radius.
+    skin: Real,
+    /// Positions at the last list build.
+    listed_position: Vec<Vector<D>>,
+    lists_valid: bool,
+    list_builds: usize,
 }
 
 impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
     WcsphSystem<D, K, V, F>
 {
     /// A system on `domain` with fixed `walls` (their grid is built once here).
+    ///
+    /// Neighbour lists are searched with the support radius plus a Verlet skin of
+    /// `skin_fraction` × support radius and rebuilt only when some particle has moved more
+    /// than half the skin since the last build (Verlet 1967), so every pair within the support
+    /// is always listed; pairs in the skin contribute zero through the kernel.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         kernel: K,
@@ -81,8 +94,10 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
         gravity: Vector<D>,
         walls: WallParticles<D>,
         wall_condition: DummyAdami2012<D>,
+        skin_fraction: Real,
     ) -> Result<Self, SearchError> {
-        let radius = kernel.support_radius();
+        let skin = skin_fraction.max(0.0) * kernel.support_radius();
+        let radius = kernel.support_radius() + skin;
         let fluid_grid = CellGrid::new(domain.clone(), radius)?;
         let mut wall_grid = CellGrid::new(domain.clone(), radius)?;
         wall_grid.build(&walls.position)?;
@@ -105,6 +120,11 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
             fluid_wall: NeighbourList::new(),
             wall_fluid: NeighbourList::new(),
             volume: Vec::new(),
+            pressure_term: Vec::new(),
+            skin,
+            listed_position: Vec::new(),
+            lists_valid: false,
+            list_builds: 0,
         })
     }
 
@@ -113,9 +133,29 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
         &self.fluid_fluid
     }
 
-    /// The fluid grid (rebuilt by the solver for Z-order sorting).
-    pub fn fluid_grid_mut(&mut self) -> &mut CellGrid<D> {
+    /// The fluid grid, rebuilt for a Z-order sort; the neighbour lists are invalidated.
+    pub fn fluid_grid_for_sorting(&mut self) -> &mut CellGrid<D> {
+        self.lists_valid = false;
         &mut self.fluid_grid
+    }
+
+    /// How often the neighbour lists were built.
+    pub fn list_builds(&self) -> usize {
+        self.list_builds
+    }
+
+    /// Whether a particle moved more than half the skin since the lists were built.
+    fn lists_stale(&self, position: &[Vector<D>]) -> bool {
+        if !self.lists_valid || self.listed_position.len() != position.len() {
+            return true;
+        }
+        let domain = &self.domain;
+        let largest = position
+            .par_iter()
+            .zip(self.listed_position.par_iter())
+            .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
+            .reduce(|| 0.0, Real::max);
+        4.0 * largest > self.skin * self.skin
     }
 
     /// p_i = p(ρ_i) for every particle (clamped at zero when asked).
@@ -212,13 +252,24 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
             let domain = &self.domain;
             fluid.position.par_iter_mut().for_each(|x| domain.wrap(x));
         }
-        self.fluid_grid.build(&fluid.position)?;
-        self.fluid_grid
-            .neighbour_list(&fluid.position, &fluid.position, &mut self.fluid_fluid);
-        self.wall_grid
-            .neighbour_list(&self.walls.position, &fluid.position, &mut self.fluid_wall);
-        self.fluid_grid
-            .neighbour_list(&fluid.position, &self.walls.position, &mut self.wall_fluid);
+        if self.lists_stale(&fluid.position) {
+            self.fluid_grid.build(&fluid.position)?;
+            self.fluid_grid
+                .neighbour_list(&fluid.position, &fluid.position, &mut self.fluid_fluid);
+            self.wall_grid.neighbour_list(
+                &self.walls.position,
+                &fluid.position,
+                &mut self.fluid_wall,
+            );
+            self.fluid_grid.neighbour_list(
+                &fluid.position,
+                &self.walls.position,
+                &mut self.wall_fluid,
+            );
+            self.listed_position.clone_from(&fluid.position);
+            self.lists_valid = true;
+            self.list_builds += 1;
+        }
         let shepard = std::mem::take(&mut self.shepard_due);
         if shepard || self.density_mode == DensityMode::Summation {
             self.sum_density(
@@ -250,11 +301,20 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
             |p| eos.density(p),
         );
         self.volume.resize(fluid.len(), 0.0);
-        self.volume
-            .par_iter_mut()
-            .zip(fluid.mass.par_iter())
-            .zip(fluid.density.par_iter())
-            .for_each(|((v, m), rho)| *v = m / rho);
+        self.pressure_term.resize(fluid.len(), 0.0);
+        (
+            self.volume.par_iter_mut(),
+            self.pressure_term.par_iter_mut(),
+            fluid.mass.par_iter(),
+            fluid.density.par_iter(),
+            pressure.par_iter(),
+        )
+            .into_par_iter()
+            .with_min_len(1024)
+            .for_each(|(v, term, m, rho, p)| {
+                *v = m / rho;
+                *term = p / (rho * rho);
+            });
         self.diffusion.prepare(
             &self.kernel,
             &self.domain,
@@ -274,10 +334,12 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
             fluid_fluid,
             fluid_wall,
             volume,
+            pressure_term,
             ..
         } = self;
         let (kernel, viscosity, diffusion, gravity) = (*kernel, *viscosity, &*diffusion, *gravity);
         let summation = self.density_mode == DensityMode::Summation;
+        let h = kernel.smoothing_length();
         let Particles {
             position,
             velocity,
@@ -291,8 +353,9 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
             .zip(rates.density_rate.par_iter_mut())
             .enumerate()
             .for_each(|(i, (acceleration, density_rate))| {
-                let (x_i, v_i, rho_i, p_i) = (position[i], velocity[i], density[i], pressure[i]);
-                let p_over_rho2_i = p_i / (rho_i * rho_i);
+                let (x_i, v_i, rho_i) = (position[i], velocity[i], density[i]);
+                let p_over_rho2_i = pressure_term[i];
+                let eta2 = 0.01 * h * h;
                 let mut a_i = gravity;
                 let mut drho_i = 0.0;
                 for &j in fluid_fluid.neighbours(i) {
@@ -307,13 +370,14 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
                     let pair = Pair {
                         r_ij,
                         r2,
+                        inv_r2_eta2: 1.0 / (r2 + eta2),
                         grad,
                         v_ij: v_i - velocity[j],
                         rho_i,
                         rho_j,
                         mass_j: mass[j],
                     };
-                    a_i -= grad * (mass[j] * (p_over_rho2_i + pressure[j] / (rho_j * rho_j)));
+                    a_i -= grad * (mass[j] * (p_over_rho2_i + pressure_term[j]));
                     a_i += viscosity.acceleration(&pair);
                     drho_i += mass[j] * pair.v_ij.dot(&grad);
                     drho_i += diffusion.rate(i, j, &pair, volume[j]);
@@ -328,6 +392,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
                     let pair = Pair {
                         r_ij: r_iw,
                         r2,
+                        inv_r2_eta2: 1.0 / (r2 + eta2),
                         grad,
                         v_ij: v_i
                             - if V::PHYSICAL {

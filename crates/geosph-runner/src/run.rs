@@ -250,6 +250,8 @@ fn run_in<const D: usize, O: Observer<D>>(
         output.write_frame(0.0, &fluid, solver.walls())?;
     }
     let (output_interval, sample_interval) = (scene.output.interval, scene.output.sample_interval);
+    // Event times as multiples of the intervals, so they do not accumulate round-off.
+    let (mut outputs, mut samples) = (1.0, 1.0);
     let mut next_output = output_interval;
     let mut next_sample = sample_interval;
     let mut max_density_error: Real = 0.0;
@@ -283,13 +285,15 @@ fn run_in<const D: usize, O: Observer<D>>(
         density_error_sum += report.density_error_mean;
         if time >= next_sample - tolerance {
             sample(time, steps, &report, &fluid, &mut output)?;
-            next_sample += sample_interval;
+            samples += 1.0;
+            next_sample = samples * sample_interval;
         }
         if time >= next_output - tolerance {
             if let Some(output) = &mut output {
                 output.write_frame(time, &fluid, solver.walls())?;
             }
-            next_output += output_interval;
+            outputs += 1.0;
+            next_output = outputs * output_interval;
         }
         if last_draw.elapsed() > Duration::from_millis(250) {
             last_draw = Instant::now();
