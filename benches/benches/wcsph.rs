@@ -43,7 +43,9 @@ fn dam_break(dx: f64) -> (Box<dyn FluidSolver<2>>, geosph_core::Particles<2>, f6
 
 fn step(c: &mut Criterion) {
     let mut group = c.benchmark_group("wcsph/step");
-    group.sample_size(20).measurement_time(Duration::from_secs(8));
+    group
+        .sample_size(20)
+        .measurement_time(Duration::from_secs(8));
     // dx = 0.014 m: 10 153 fluid particles; dx = 0.00447 m: 100 128.
     for dx in [0.014, 0.00447] {
         let (mut solver, mut fluid, mut time) = dam_break(dx);
