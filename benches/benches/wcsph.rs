@@ -9,7 +9,6 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use geosph_fluid::config::FluidSetup;
 use geosph_fluid::{FluidSolver, build_wcsph};
 use geosph_scene::{Scene, SolverSpec};
 
@@ -17,23 +16,9 @@ use geosph_scene::{Scene, SolverSpec};
 fn dam_break(dx: f64) -> (Box<dyn FluidSolver<2>>, geosph_core::Particles<2>, f64) {
     let mut scene = Scene::from_ron(include_str!("../../data/scenes/dam-break-2d.ron")).unwrap();
     scene.dx = dx;
-    let setup = geosph_scene::build::<2>(&scene).unwrap();
+    let (mut fluid, solver_inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
     let SolverSpec::Wcsph(config) = &scene.solver;
-    let mut fluid = setup.fluid;
-    let mut solver = build_wcsph(
-        config,
-        FluidSetup {
-            kernel: setup.kernel,
-            smoothing_length: setup.smoothing_length,
-            domain: setup.domain,
-            rest_density: setup.rest_density,
-            sound_speed: setup.sound_speed,
-            gravity: setup.gravity,
-            walls: setup.walls,
-        },
-        &mut fluid,
-    )
-    .unwrap();
+    let mut solver = build_wcsph(config, solver_inputs, &mut fluid).unwrap();
     let mut time = 0.0;
     while time < 0.05 {
         time += solver.step(&mut fluid, time, 1.0).unwrap().dt;

@@ -12,7 +12,6 @@
 
 use geosph_core::{Particles, Real, Vector};
 use geosph_fluid::build_wcsph;
-use geosph_fluid::config::FluidSetup;
 use geosph_runner::{RunOptions, run};
 use geosph_scene::Scene;
 use geosph_tests::FinalState;
@@ -208,8 +207,7 @@ fn periodic_box_conserves_linear_momentum() {
                            diffusion: Molteni(delta: 0.1))))",
     )
     .unwrap();
-    let setup = geosph_scene::build::<2>(&scene).unwrap();
-    let mut fluid = setup.fluid;
+    let (mut fluid, solver_inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
     let mut rng = StdRng::seed_from_u64(7);
     for v in &mut fluid.velocity {
         *v = Vector::<2>::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
@@ -225,20 +223,7 @@ fn periodic_box_conserves_linear_momentum() {
         .sum();
     let initial = momentum(&fluid);
     let geosph_scene::SolverSpec::Wcsph(config) = &scene.solver;
-    let mut solver = build_wcsph(
-        config,
-        FluidSetup {
-            kernel: setup.kernel,
-            smoothing_length: setup.smoothing_length,
-            domain: setup.domain,
-            rest_density: setup.rest_density,
-            sound_speed: setup.sound_speed,
-            gravity: setup.gravity,
-            walls: setup.walls,
-        },
-        &mut fluid,
-    )
-    .unwrap();
+    let mut solver = build_wcsph(config, solver_inputs, &mut fluid).unwrap();
     let mut time = 0.0;
     for _ in 0..1000 {
         time += solver.step(&mut fluid, time, 1.0).unwrap().dt;

@@ -5,8 +5,19 @@
 //! the first wall layer sits dx/2 behind the wall surface.
 
 use geosph_core::{Real, Vector};
+use serde::{Deserialize, Serialize};
 
 use crate::walls::WallParticles;
+
+/// The side of a 2D polyline the flow is on, looking along the polyline from its first point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FlowSide {
+    /// The flow is to the left (a counter-clockwise container outline).
+    #[default]
+    Left,
+    /// The flow is to the right.
+    Right,
+}
 
 /// Number of lattice cells of size `dx` across `length`, tolerant of round-off
 /// (a length of 1.0 with dx = 0.1 gives 10, not 11).
@@ -146,6 +157,50 @@ pub fn tank<const D: usize>(
     WallParticles::fixed(position, normal, depth, dx.powi(D as i32), rest_density)
 }
 
+/// Dummy particles of a 2D wall along the polyline `points`: on each segment of length L,
+/// ⌈L/dx⌉ particles evenly spaced along it (spacing ≤ dx), `layers` rows deep on the side away
+/// from the flow, row k at depth (k + ½) dx behind the line. Normals point into the flow.
+///
+/// Only the segments are filled: at a convex corner (seen from the walls) the layers of the two
+/// segments leave a wedge without particles; close such corners with a [`tank`] or a short
+/// extra segment.
+pub fn polyline(
+    points: &[Vector<2>],
+    dx: Real,
+    layers: usize,
+    flow: FlowSide,
+    rest_density: Real,
+) -> WallParticles<2> {
+    let mut position = Vec::new();
+    let mut normal = Vec::new();
+    let mut depth = Vec::new();
+    for segment in points.windows(2) {
+        let (start, end) = (segment[0], segment[1]);
+        let length = (end - start).norm();
+        if length <= 0.0 {
+            continue;
+        }
+        let tangent = (end - start) / length;
+        let left = Vector::<2>::new(-tangent[1], tangent[0]);
+        let into_flow = match flow {
+            FlowSide::Left => left,
+            FlowSide::Right => -left,
+        };
+        let count = cell_count(length, dx);
+        let spacing = length / count.max(1) as Real;
+        for along in 0..count {
+            for layer in 0..layers {
+                let behind = (layer as Real + 0.5) * dx;
+                position
+                    .push(start + tangent * ((along as Real + 0.5) * spacing) - into_flow * behind);
+                normal.push(into_flow);
+                depth.push(behind);
+            }
+        }
+    }
+    WallParticles::fixed(position, normal, depth, dx * dx, rest_density)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -191,6 +246,24 @@ mod tests {
             1000.0,
         );
         assert_eq!(closed.len(), 14 * 14 * 14 - 10 * 10 * 10);
+    }
+
+    #[test]
+    fn polyline_layers_lie_behind_the_line() {
+        let dx = 0.1;
+        // A slope from (0, 0) to (2, 1), flow above it (to the left going up the slope).
+        let slope = [Vector::<2>::new(0.0, 0.0), Vector::<2>::new(2.0, 1.0)];
+        let walls = polyline(&slope, dx, 3, FlowSide::Left, 1000.0);
+        // √5 m at spacing ≤ dx: 23 particles along the slope.
+        let count = (5.0_f64.sqrt() / dx).ceil() as usize;
+        assert_eq!(walls.len(), count * 3);
+        for i in 0..walls.len() {
+            let x = walls.position[i];
+            // Below the line y = x/2, at the recorded depth along the normal.
+            let signed = (x[1] - 0.5 * x[0]) / (1.0_f64 + 0.25).sqrt();
+            assert_relative_eq!(signed, -walls.depth[i], epsilon = 1e-12);
+            assert!(walls.normal[i][1] > 0.0);
+        }
     }
 
     #[test]

@@ -4,7 +4,6 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::config::FluidSetup;
 use geosph_fluid::{FluidSolver, SolverError, build_wcsph};
 use geosph_scene::{Scene, SceneError, SolverSpec};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -180,21 +179,11 @@ fn run_in<const D: usize, O: Observer<D>>(
     options: &RunOptions,
     observer: &mut O,
 ) -> Result<Summary, RunError> {
-    let setup = geosph_scene::build::<D>(scene)?;
-    let mut fluid = setup.fluid;
-    let rest_density = setup.rest_density;
-    let wall_particles = setup.walls.len();
+    let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
+    let rest_density = solver_inputs.rest_density;
+    let wall_particles = solver_inputs.walls.len();
     let SolverSpec::Wcsph(config) = &scene.solver;
-    let fluid_setup = FluidSetup {
-        kernel: setup.kernel,
-        smoothing_length: setup.smoothing_length,
-        domain: setup.domain,
-        rest_density,
-        sound_speed: setup.sound_speed,
-        gravity: setup.gravity,
-        walls: setup.walls,
-    };
-    let mut solver: Box<dyn FluidSolver<D>> = build_wcsph(config, fluid_setup, &mut fluid)
+    let mut solver: Box<dyn FluidSolver<D>> = build_wcsph(config, solver_inputs, &mut fluid)
         .map_err(|source| RunError::Solver {
             time: 0.0,
             step: 0,

@@ -147,6 +147,17 @@ pub enum WallSpec {
         #[serde(default = "default_true")]
         open_top: bool,
     },
+    /// A 2D wall along a polyline, e.g. a slope or a ramp.
+    Polyline {
+        /// Vertices (x, y), at least two.
+        points: Vec<(Real, Real)>,
+        /// Layers of dummy particles (default 3).
+        #[serde(default = "default_layers")]
+        layers: usize,
+        /// The side of the line the flow is on, looking from the first point (default Left).
+        #[serde(default)]
+        flow_side: geosph_boundary::generate::FlowSide,
+    },
 }
 
 fn default_layers() -> usize {
@@ -202,6 +213,21 @@ mod tests {
             let again = Scene::from_ron(&scene.to_ron()).unwrap();
             assert_eq!(again, scene);
         }
+    }
+
+    #[test]
+    fn polyline_walls_build_behind_the_line() {
+        let scene = Scene::from_ron(
+            "Scene(name: \"ramp\", dimension: 2, dx: 0.05, end_time: 1.0,
+                fluid: (blocks: [Box(min: [0.0, 0.5], max: [0.5, 1.0])]),
+                walls: [Polyline(points: [(0.0, 0.0), (2.0, 0.0)])],
+                solver: Wcsph(()))",
+        )
+        .unwrap();
+        let setup = crate::build::<2>(&scene).unwrap();
+        // 2 m / 0.05 m = 40 particles along, 3 layers below y = 0.
+        assert_eq!(setup.walls.len(), 40 * 3);
+        assert!(setup.walls.position.iter().all(|x| x[1] < 0.0));
     }
 
     #[test]

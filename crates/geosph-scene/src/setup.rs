@@ -3,6 +3,7 @@
 use geosph_boundary::{WallParticles, generate};
 use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_fluid::EquationOfState;
+use geosph_fluid::config::FluidSetup;
 use geosph_kernels::KernelKind;
 
 use crate::format::{Region, Scene, SolverSpec, WallSpec};
@@ -29,6 +30,38 @@ pub struct Setup<const D: usize> {
     pub gravity: Vector<D>,
     /// Height H of the fluid (extent along the last axis).
     pub fluid_height: Real,
+}
+
+impl<const D: usize> Setup<D> {
+    /// The fluid particles, and the rest as the inputs of a fluid solver.
+    pub fn split(self) -> (Particles<D>, FluidSetup<D>) {
+        let solver_inputs = FluidSetup {
+            kernel: self.kernel,
+            smoothing_length: self.smoothing_length,
+            domain: self.domain,
+            rest_density: self.rest_density,
+            sound_speed: self.sound_speed,
+            gravity: self.gravity,
+            walls: self.walls,
+        };
+        (self.fluid, solver_inputs)
+    }
+}
+
+/// 2D wall particles as `D`-dimensional ones (used for D = 2 only, after validation).
+fn to_dimension<const D: usize>(plane: WallParticles<2>) -> WallParticles<D> {
+    let lift = |v: &Vector<2>| Vector::<D>::from_fn(|k, _| if k < 2 { v[k] } else { 0.0 });
+    WallParticles {
+        position: plane.position.iter().map(lift).collect(),
+        velocity: plane.velocity.iter().map(lift).collect(),
+        acceleration: plane.acceleration.iter().map(lift).collect(),
+        volume: plane.volume,
+        normal: plane.normal.iter().map(lift).collect(),
+        depth: plane.depth,
+        pressure: plane.pressure,
+        density: plane.density,
+        viscous_velocity: plane.viscous_velocity.iter().map(lift).collect(),
+    }
 }
 
 fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
@@ -149,6 +182,18 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     });
                 }
                 walls.extend(tank);
+            }
+            WallSpec::Polyline {
+                points,
+                layers,
+                flow_side,
+            } => {
+                let points: Vec<Vector<2>> = points
+                    .iter()
+                    .map(|&(x, y)| Vector::<2>::new(x, y))
+                    .collect();
+                let plane = generate::polyline(&points, dx, *layers, *flow_side, rest_density);
+                walls.extend(to_dimension::<D>(plane));
             }
         }
     }

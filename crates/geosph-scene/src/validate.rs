@@ -128,23 +128,36 @@ impl Scene {
             None => return Err(fail("fluid", "the scene has no fluid: nothing to simulate")),
         }
         let support_cells = self.smoothing_ratio * kernel.support_factor();
+        let needed = (support_cells - 1e-9).ceil() as usize;
         for (index, wall) in self.walls.iter().enumerate() {
-            match wall {
+            let field = format!("walls[{index}]");
+            let layers = match wall {
                 WallSpec::Tank {
                     min, max, layers, ..
                 } => {
-                    let field = format!("walls[{index}]");
                     boxed(&field, min, max, dimension)?;
-                    let needed = (support_cells - 1e-9).ceil() as usize;
-                    if *layers < needed || *layers > 10 {
+                    *layers
+                }
+                WallSpec::Polyline { points, layers, .. } => {
+                    if dimension != 2 {
+                        return Err(fail(field, "polyline walls exist only in 2D scenes"));
+                    }
+                    if points.len() < 2 {
                         return Err(fail(
-                            format!("{field}.layers"),
-                            format!(
-                                "must lie in [{needed}, 10] (the kernel support is {support_cells:.2} dx), got {layers}"
-                            ),
+                            format!("{field}.points"),
+                            format!("needs at least 2 points, got {}", points.len()),
                         ));
                     }
+                    *layers
                 }
+            };
+            if layers < needed || layers > 10 {
+                return Err(fail(
+                    format!("{field}.layers"),
+                    format!(
+                        "must lie in [{needed}, 10] (the kernel support is {support_cells:.2} dx), got {layers}"
+                    ),
+                ));
             }
         }
         match &self.solver {

@@ -13,6 +13,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::rates::{ExplicitSystem, Rates};
 
+/// Smallest number of particles a parallel task handles: below it, waking a second thread
+/// costs more than it saves.
+const MIN_CHUNK: usize = 1024;
+
 /// The explicit time-integration schemes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Scheme {
@@ -152,16 +156,35 @@ impl<const D: usize> Integrator<D> {
                     system.rates(particles, time, rates);
                 }
                 let half = 0.5 * dt;
-                // Kick to n+½ and drift with v^{n+½}.
-                add_scaled(&mut particles.velocity, &rates.acceleration, half);
-                kick_density_and_stress(particles, rates, half);
-                position_rate(x_rate, &particles.velocity, &rates.position_correction);
-                add_scaled(&mut particles.position, x_rate, dt);
-                // Predict v, ρ, σ at n+1 with the old rates, so that rates that depend on them
-                // (viscosity, pressure) are evaluated at second-order-accurate values.
-                start.save_kicked(particles);
-                add_scaled(&mut particles.velocity, &rates.acceleration, half);
-                kick_density_and_stress(particles, rates, half);
+                // Kick to n+½, drift with v^{n+½}, keep the n+½ state and predict v, ρ at n+1
+                // with the old rates (so that rates depending on them are evaluated at
+                // second-order-accurate values): one fused pass over the particles.
+                (
+                    particles.position.par_iter_mut(),
+                    particles.velocity.par_iter_mut(),
+                    particles.density.par_iter_mut(),
+                    start.velocity.par_iter_mut(),
+                    start.density.par_iter_mut(),
+                    rates.acceleration.par_iter(),
+                    rates.density_rate.par_iter(),
+                    rates.position_correction.par_iter(),
+                )
+                    .into_par_iter()
+                    .with_min_len(MIN_CHUNK)
+                    .for_each(|(x, v, rho, v_half, rho_half, a, rho_rate, dv)| {
+                        *v_half = *v + a * half;
+                        *rho_half = *rho + rho_rate * half;
+                        *x += (*v_half + dv) * dt;
+                        *v = *v_half + a * half;
+                        *rho = *rho_half + rho_rate * half;
+                    });
+                if let (Some(soil), Some(saved), Some(stress_rate)) =
+                    (&mut particles.soil, &mut start.stress, &rates.stress_rate)
+                {
+                    add_scaled(&mut soil.stress, stress_rate, half);
+                    saved.copy_from_slice(&soil.stress);
+                    add_scaled(&mut soil.stress, stress_rate, half);
+                }
                 system.finish_stage(particles);
                 *rates_current = false;
                 system.prepare(particles)?;
@@ -227,29 +250,22 @@ impl<const D: usize> StartState<D> {
         }
     }
 
-    /// Saves v, ρ, σ (leap-frog: the half-kicked state); positions are not needed.
-    fn save_kicked(&mut self, particles: &Particles<D>) {
-        self.velocity.copy_from_slice(&particles.velocity);
-        self.density.copy_from_slice(&particles.density);
-        if let (Some(saved), Some(soil)) = (&mut self.stress, &particles.soil) {
-            saved.copy_from_slice(&soil.stress);
-        }
-    }
-
-    /// v ← v_saved + Δt a, ρ ← ρ_saved + Δt ρ̇, σ ← σ_saved + Δt σ̇.
+    /// v ← v_saved + Δt a, ρ ← ρ_saved + Δt ρ̇ (one fused pass), σ ← σ_saved + Δt σ̇.
     fn kick_from_saved(&self, particles: &mut Particles<D>, rates: &Rates<D>, dt: Real) {
-        from_start(
-            &mut particles.velocity,
-            &self.velocity,
-            &rates.acceleration,
-            dt,
-        );
-        from_start(
-            &mut particles.density,
-            &self.density,
-            &rates.density_rate,
-            dt,
-        );
+        (
+            particles.velocity.par_iter_mut(),
+            particles.density.par_iter_mut(),
+            self.velocity.par_iter(),
+            self.density.par_iter(),
+            rates.acceleration.par_iter(),
+            rates.density_rate.par_iter(),
+        )
+            .into_par_iter()
+            .with_min_len(MIN_CHUNK)
+            .for_each(|(v, rho, v_half, rho_half, a, rho_rate)| {
+                *v = v_half + a * dt;
+                *rho = rho_half + rho_rate * dt;
+            });
         if let (Some(soil), Some(start), Some(rate)) =
             (&mut particles.soil, &self.stress, &rates.stress_rate)
         {
@@ -333,6 +349,7 @@ where
     values
         .par_iter_mut()
         .zip(rates)
+        .with_min_len(MIN_CHUNK)
         .for_each(|(y, &rate)| *y = *y + rate * dt);
 }
 
@@ -345,6 +362,7 @@ where
         .par_iter_mut()
         .zip(start)
         .zip(rates)
+        .with_min_len(MIN_CHUNK)
         .for_each(|((y, &y0), &rate)| *y = y0 + rate * dt);
 }
 
