@@ -181,15 +181,36 @@ pub struct Validation {
 
 impl std::fmt::Display for Validation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        writeln!(
+        let line = |f: &mut std::fmt::Formatter<'_>,
+                    what: &str,
+                    symbol: &str,
+                    rms: Real,
+                    max: Real,
+                    points: usize| {
+            if points == 0 {
+                writeln!(f, "{what}no measured point within the simulated time")
+            } else {
+                writeln!(
+                    f,
+                    "{what}RMS Δ{symbol} = {rms:.3}, max Δ{symbol} = {max:.3} over {points} points"
+                )
+            }
+        };
+        line(
             f,
-            "front vs Martin & Moyce (1952)   RMS ΔZ = {:.3}, max ΔZ = {:.3} over {} points",
-            self.front_rms, self.front_max, self.front_points
+            "front vs Martin & Moyce (1952)   ",
+            "Z",
+            self.front_rms,
+            self.front_max,
+            self.front_points,
         )?;
-        writeln!(
+        line(
             f,
-            "height vs Martin & Moyce (1952)  RMS ΔH = {:.3}, max ΔH = {:.3} over {} points",
-            self.height_rms, self.height_max, self.height_points
+            "height vs Martin & Moyce (1952)  ",
+            "H",
+            self.height_rms,
+            self.height_max,
+            self.height_points,
         )?;
         match self.ahead_of_ritter {
             None => write!(f, "Ritter bound Z ≤ 1 + 2T           respected"),
