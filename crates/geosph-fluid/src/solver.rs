@@ -27,8 +27,18 @@ pub struct StepReport {
 #[derive(Debug, thiserror::Error)]
 pub enum SolverError {
     /// The neighbour search failed, e.g. a particle left the domain.
-    #[error(transparent)]
+    #[error("{0}{hint}", hint = search_hint(.0))]
     Search(#[from] SearchError),
+}
+
+/// What a user can do about a failed search.
+fn search_hint(error: &SearchError) -> &'static str {
+    match error {
+        SearchError::OutsideDomain { .. } => {
+            "; a particle left the domain: if the flow may go there (a splash, an outflow), enlarge the scene's `domain`, otherwise check the walls and the time step"
+        }
+        _ => "",
+    }
 }
 
 /// A fluid solver: one method, stepped by the runner. Dispatch happens once per step; the hot
@@ -176,5 +186,33 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
 
     fn sound_speed(&self) -> Real {
         self.system.eos.sound_speed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_particle_outside_the_domain_gets_a_hint() {
+        let error = SolverError::from(SearchError::OutsideDomain {
+            index: 7,
+            position: vec![0.5, 9.0],
+            min: vec![0.0, 0.0],
+            max: vec![1.0, 6.0],
+        });
+        let message = error.to_string();
+        assert!(message.contains("particle 7"), "{message}");
+        assert!(
+            message.contains("enlarge the scene's `domain`"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn events_are_reached_without_slivers() {
+        assert_eq!(event_step(1e-4, 5e-5), 5e-5);
+        assert_eq!(event_step(1e-4, 1.5e-4), 0.75e-4);
+        assert_eq!(event_step(1e-4, 1e-3), 1e-4);
     }
 }
