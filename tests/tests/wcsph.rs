@@ -222,7 +222,9 @@ fn periodic_box_conserves_linear_momentum() {
         .map(|(v, m)| v.norm() * m)
         .sum();
     let initial = momentum(&fluid);
-    let geosph_scene::SolverSpec::Wcsph(config) = &scene.solver;
+    let geosph_scene::SolverSpec::Wcsph(config) = &scene.solver else {
+        unreachable!("a WCSPH scene")
+    };
     let mut solver = build_wcsph(config, solver_inputs, &mut fluid).unwrap();
     let mut time = 0.0;
     for _ in 0..1000 {

@@ -12,6 +12,9 @@ pub struct SoilFields {
     pub strain: Vec<Tensor3>,
     /// Accumulated equivalent plastic strain ε̄ᵖ.
     pub plastic_strain: Vec<Real>,
+    /// Displacement u = ∫ v dt since the reference state (e.g. the release after a geostatic
+    /// stage), 3 components also in 2D (u_z = 0).
+    pub displacement: Vec<nalgebra::Vector3<Real>>,
 }
 
 impl SoilFields {
@@ -20,6 +23,7 @@ impl SoilFields {
             stress: vec![Tensor3::zeros(); n],
             strain: vec![Tensor3::zeros(); n],
             plastic_strain: vec![0.0; n],
+            displacement: vec![nalgebra::Vector3::zeros(); n],
         }
     }
 
@@ -27,6 +31,7 @@ impl SoilFields {
         permutation.apply(&mut self.stress);
         permutation.apply(&mut self.strain);
         permutation.apply(&mut self.plastic_strain);
+        permutation.apply(&mut self.displacement);
     }
 }
 
@@ -137,7 +142,10 @@ impl<const D: usize> Particles<D> {
         total += self.pressure.as_ref().map_or(0, bytes);
         total += self.gradient_correction.as_ref().map_or(0, bytes);
         if let Some(soil) = &self.soil {
-            total += bytes(&soil.stress) + bytes(&soil.strain) + bytes(&soil.plastic_strain);
+            total += bytes(&soil.stress)
+                + bytes(&soil.strain)
+                + bytes(&soil.plastic_strain)
+                + bytes(&soil.displacement);
         }
         total / self.len().max(1)
     }

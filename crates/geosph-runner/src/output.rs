@@ -90,6 +90,14 @@ impl RunOutput {
         if let Some(pressure) = &fluid.pressure {
             fluid_frame = fluid_frame.with(Field::scalar("pressure", pressure));
         }
+        let soil = fluid.soil.as_ref().map(SoilFrameFields::<D>::of);
+        if let (Some(soil), Some(fields)) = (&soil, &fluid.soil) {
+            fluid_frame = fluid_frame.with(Field::tensor("stress", &fields.stress));
+            for (name, values) in &soil.scalars {
+                fluid_frame = fluid_frame.with(Field::scalar(name, values));
+            }
+            fluid_frame = fluid_frame.with(Field::vector("displacement", &soil.displacement));
+        }
         let wall_frame = Frame::new(&walls.position)
             .with(Field::vector("velocity", &walls.velocity))
             .with(Field::scalar("density", &walls.density))
@@ -108,5 +116,41 @@ impl RunOutput {
     /// Flushes the CSV.
     pub fn flush(&mut self) -> Result<(), Error> {
         self.csv.flush()
+    }
+}
+
+/// The per-particle soil quantities of a frame besides the stress tensor: σ components
+/// (tension positive; xz and yz in 3D only), p = −I₁/3 and q = √(3J₂) (compression positive),
+/// the accumulated equivalent plastic strain and the displacement.
+struct SoilFrameFields<const D: usize> {
+    scalars: Vec<(&'static str, Vec<Real>)>,
+    displacement: Vec<geosph_core::Vector<D>>,
+}
+
+impl<const D: usize> SoilFrameFields<D> {
+    fn of(soil: &geosph_core::SoilFields) -> Self {
+        use geosph_soil::invariants::{deviatoric_stress, mean_pressure};
+        let component = |a: usize, b: usize| soil.stress.iter().map(|s| s[(a, b)]).collect();
+        let mut scalars = vec![
+            ("stress_xx", component(0, 0)),
+            ("stress_yy", component(1, 1)),
+            ("stress_zz", component(2, 2)),
+            ("stress_xy", component(0, 1)),
+        ];
+        if D == 3 {
+            scalars.push(("stress_xz", component(0, 2)));
+            scalars.push(("stress_yz", component(1, 2)));
+        }
+        scalars.push(("p", soil.stress.iter().map(mean_pressure).collect()));
+        scalars.push(("q", soil.stress.iter().map(deviatoric_stress).collect()));
+        scalars.push(("plastic_strain", soil.plastic_strain.clone()));
+        Self {
+            scalars,
+            displacement: soil
+                .displacement
+                .iter()
+                .map(|u| geosph_core::Vector::<D>::from_fn(|k, _| u[k]))
+                .collect(),
+        }
     }
 }

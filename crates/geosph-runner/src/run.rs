@@ -54,6 +54,8 @@ pub struct Summary {
     pub bytes_per_particle: usize,
     /// VTU frames written.
     pub frames: usize,
+    /// The geostatic stage of a soil scene, run before t = 0.
+    pub geostatic: Option<geosph_soil::GeostaticReport>,
 }
 
 impl std::fmt::Display for Summary {
@@ -86,7 +88,11 @@ impl std::fmt::Display for Summary {
             "density error      mean {:.3} %, max {:.3} %",
             100.0 * self.mean_density_error,
             100.0 * self.max_density_error
-        )
+        )?;
+        if let Some(geostatic) = &self.geostatic {
+            write!(f, "\n{geostatic}")?;
+        }
+        Ok(())
     }
 }
 
@@ -127,6 +133,9 @@ pub enum RunError {
     /// The thread pool could not be built.
     #[error("threads: {0}")]
     Threads(String),
+    /// The soil solver could not be built or its geostatic stage failed.
+    #[error(transparent)]
+    Soil(#[from] geosph_soil::SoilError),
 }
 
 /// Runs `scene` to its end time, calling `observer` at every sample time.
@@ -182,13 +191,21 @@ fn run_in<const D: usize, O: Observer<D>>(
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
     let rest_density = solver_inputs.rest_density;
     let wall_particles = solver_inputs.walls.len();
-    let SolverSpec::Wcsph(config) = &scene.solver;
-    let mut solver: Box<dyn FluidSolver<D>> = build_wcsph(config, solver_inputs, &mut fluid)
-        .map_err(|source| RunError::Solver {
-            time: 0.0,
-            step: 0,
-            source: source.into(),
-        })?;
+    let mut geostatic = None;
+    let mut solver: Box<dyn FluidSolver<D>> = match &scene.solver {
+        SolverSpec::Wcsph(config) => {
+            build_wcsph(config, solver_inputs, &mut fluid).map_err(|source| RunError::Solver {
+                time: 0.0,
+                step: 0,
+                source: source.into(),
+            })?
+        }
+        SolverSpec::Soil(config) => {
+            let built = geosph_soil::build_soil(config, solver_inputs, &mut fluid)?;
+            geostatic = built.geostatic;
+            built.solver
+        }
+    };
 
     let vtk = options.vtk.unwrap_or(scene.output.vtk);
     let mut output = match &options.out_dir {
@@ -314,5 +331,6 @@ fn run_in<const D: usize, O: Observer<D>>(
         mean_density_error: density_error_sum / steps.max(1) as Real,
         bytes_per_particle: fluid.bytes_per_particle(),
         frames,
+        geostatic,
     })
 }

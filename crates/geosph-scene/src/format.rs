@@ -35,8 +35,9 @@ pub struct Scene {
     /// and, upwards, by three fluid heights.
     #[serde(default)]
     pub domain: Option<DomainSpec>,
-    /// The fluid, if any.
-    #[serde(default)]
+    /// The fluid, if any; soil scenes may call this block `soil` (its density and blocks are
+    /// the soil's, `hydrostatic` is ignored).
+    #[serde(default, alias = "soil")]
     pub fluid: Option<FluidSpec>,
     /// Walls.
     #[serde(default)]
@@ -169,6 +170,8 @@ fn default_layers() -> usize {
 pub enum SolverSpec {
     /// Weakly compressible SPH.
     Wcsph(#[serde(default)] WcsphConfig),
+    /// Elastoplastic soil SPH (`geosph-soil`).
+    Soil(#[serde(default)] geosph_soil::SoilConfig),
 }
 
 impl SolverSpec {
@@ -176,6 +179,7 @@ impl SolverSpec {
     pub fn name(&self) -> &'static str {
         match self {
             SolverSpec::Wcsph(_) => "wcsph",
+            SolverSpec::Soil(_) => "soil",
         }
     }
 }

@@ -129,8 +129,16 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     let top = surface.iter().copied().fold(Real::NEG_INFINITY, Real::max);
     let fluid_height = top - bottom;
 
-    let SolverSpec::Wcsph(config) = &scene.solver;
     let g = gravity.norm();
+    let config = match &scene.solver {
+        SolverSpec::Wcsph(config) => config,
+        // Soil: the solver derives its wave speed from the elastic constants; ρ = ρ₀.
+        SolverSpec::Soil(_) => &geosph_fluid::WcsphConfig {
+            sound_speed: Some(0.0),
+            ..Default::default()
+        },
+    };
+    let hydrostatic = fluid_spec.hydrostatic && matches!(scene.solver, SolverSpec::Wcsph(_));
     let sound_speed = match config.sound_speed {
         Some(c0) => c0,
         None if g > 0.0 => 10.0 * (2.0 * g * fluid_height).sqrt(),
@@ -149,7 +157,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     };
     let mass = rest_density * dx.powi(D as i32);
     let mut fluid = Particles::at_rest(position, mass, rest_density);
-    if fluid_spec.hydrostatic {
+    if hydrostatic {
         for (i, rho) in fluid.density.iter_mut().enumerate() {
             let depth = (surface[i] - fluid.position[i][up]).max(0.0);
             *rho = eos.density(rest_density * g * depth);

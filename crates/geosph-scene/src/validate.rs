@@ -162,6 +162,9 @@ impl Scene {
         }
         match &self.solver {
             SolverSpec::Wcsph(config) => validate_wcsph(config),
+            SolverSpec::Soil(config) => config
+                .validate()
+                .map_err(|error| fail(format!("solver.{}", error.field), error.message)),
         }
     }
 

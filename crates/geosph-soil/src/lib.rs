@@ -31,6 +31,7 @@ pub mod element;
 pub mod invariants;
 pub mod kinematics;
 pub mod material;
+pub mod sph;
 
 pub use constitutive::{Constitutive, ConstitutiveConfig, Response, SoilModel, StressUpdate};
 pub use drucker_prager::{DruckerPragerBui2008, ReturnAlgorithm};
@@ -39,3 +40,4 @@ pub use element::{
     ElementTest, ElementTestError, LoadingPath, PathPoint, run_element_test, write_csv,
 };
 pub use material::{DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial};
+pub use sph::{GeostaticReport, SoilBuild, SoilConfig, SoilError, build_soil};

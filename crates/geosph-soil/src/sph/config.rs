@@ -1,0 +1,428 @@
+//! Scene-level configuration of the soil solver, its validation, and the factory that builds a
+//! solver from it with every switchable term resolved to a type.
+
+use geosph_core::{Particles, Real};
+use geosph_fluid::FluidSolver;
+use geosph_fluid::config::FluidSetup;
+use geosph_kernels::{Kernel, KernelVisitor};
+use geosph_neighbours::SearchError;
+use serde::{Deserialize, Serialize};
+
+use crate::constitutive::{Constitutive, ConstitutiveConfig};
+use crate::drucker_prager::ReturnAlgorithm;
+use crate::material::{MaterialError, SoilMaterial};
+use crate::sph::geostatic::{GeostaticConfig, GeostaticReport, run_geostatic_stage};
+use crate::sph::solver::SoilSolver;
+use crate::sph::system::SoilSystem;
+use crate::sph::terms::{
+    ArtificialStressGray2001, ArtificialViscosityMonaghan, NoArtificialStress, NoViscosity,
+    PairViscosity, TensileCorrection,
+};
+
+/// Monaghan (1992) artificial viscosity between soil particles.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArtificialViscosityConfig {
+    /// α_Π (linear term), in [0, 1].
+    pub alpha: Real,
+    /// β_Π (quadratic term), in [0, 2].
+    #[serde(default)]
+    pub beta: Real,
+}
+
+/// Gray, Monaghan & Swift (2001) artificial stress against the tensile instability.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArtificialStressConfig {
+    /// ε in (0, 1] (Gray et al. 2001: 0.3).
+    pub epsilon: Real,
+    /// The exponent n of f_ij = W(r_ij)/W(dx) in [1, 10] (Gray et al. 2001: 4).
+    #[serde(default = "default_exponent")]
+    pub exponent: Real,
+}
+
+fn default_exponent() -> Real {
+    4.0
+}
+
+/// Stress regularisation every `every` steps (Nguyen et al. 2017).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum RegularisationConfig {
+    /// σ_i ← Σ_j V_j σ_j W_ij / Σ_j V_j W_ij (zeroth order, cheap).
+    Shepard {
+        /// Steps between regularisations (≥ 1).
+        every: usize,
+    },
+    /// σ_i ← Σ_j V_j σ_j W^MLS_ij with the linear MLS kernel (Nguyen et al. 2017 use every = 5).
+    Mls {
+        /// Steps between regularisations (≥ 1).
+        every: usize,
+    },
+}
+
+/// How soil slides along a wall.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum WallSlip {
+    /// Bui's β rule on the whole relative velocity (no-slip wall, Bui et al. 2008).
+    #[default]
+    NoSlip,
+    /// Bui's β rule on the normal component only; the tangential velocity is mirrored
+    /// unchanged (free slip).
+    FreeSlip,
+    /// Free slip plus a Coulomb friction force limited by tan δ times the wall's normal push.
+    Friction {
+        /// Interface friction angle δ in degrees, [0, 90).
+        angle_deg: Real,
+    },
+}
+
+/// Which stress the dummy particles carry.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum WallStress {
+    /// The kernel-weighted (Shepard) average of the nearest soil particles' stress
+    /// (Bui et al. 2008 take the stress of the soil next to the wall).
+    Shepard,
+    /// The same average with each soil stress extrapolated to the dummy particle along gravity,
+    /// σ_w = Σ_i [σ_i + ρ_i g·(x_i − x_w) ĝĝᵀ] W_wi / Σ_i W_wi (the stress analogue of Adami et
+    /// al. 2012, eq. 27). Default: exact for a level layer at rest.
+    #[default]
+    Extrapolated,
+}
+
+/// The wall condition of soil scenes.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SoilWallConfig {
+    /// Tangential condition (default no-slip).
+    pub slip: WallSlip,
+    /// Stress of the dummy particles (default extrapolated along gravity).
+    pub stress: WallStress,
+    /// β_max of Bui's rule, in [1, 2] (default 1.5 as Bui et al. 2008).
+    pub beta_max: Real,
+    /// Add the soft repulsive force of Liu et al. (2012) from wall particles (default false).
+    pub repulsive: bool,
+}
+
+impl Default for SoilWallConfig {
+    fn default() -> Self {
+        Self {
+            slip: WallSlip::NoSlip,
+            stress: WallStress::Extrapolated,
+            beta_max: 1.5,
+            repulsive: false,
+        }
+    }
+}
+
+/// Parameters of the soil SPH solver (the `Soil(...)` solver of a scene).
+///
+/// Every stabilisation term is optional and costs nothing when absent.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SoilConfig {
+    /// The constitutive model (default: the aluminium bars of Bui et al. 2008, E = 0.84 MPa,
+    /// ν = 0.3, φ = 19.8°, c = 0, ψ = 0, Bui's return).
+    pub constitutive: ConstitutiveConfig,
+    /// Artificial viscosity (default α = 0.1, β = 0).
+    pub artificial_viscosity: Option<ArtificialViscosityConfig>,
+    /// Artificial stress (default off).
+    pub artificial_stress: Option<ArtificialStressConfig>,
+    /// ξ of the velocity damping F = −ξ √(E/(ρ h²)) m v of Nguyen et al. (2017) during the run
+    /// (default off; they use 5 × 10⁻⁵ for column collapses).
+    pub damping: Option<Real>,
+    /// Stress regularisation (default off).
+    pub regularisation: Option<RegularisationConfig>,
+    /// Walls.
+    pub walls: SoilWallConfig,
+    /// Geostatic stage before the run (default none: start from σ = 0).
+    pub geostatic: Option<GeostaticConfig>,
+    /// Courant number of the elastic-wave limit, (0, 0.5] (default 0.2).
+    pub cfl: Real,
+    /// Steps between Z-order sorts (default 100; 0 never).
+    pub reorder_every: usize,
+    /// Verlet skin of the neighbour lists as a fraction of the support radius (default 0.1).
+    pub neighbour_skin: Real,
+}
+
+impl Default for SoilConfig {
+    fn default() -> Self {
+        Self {
+            constitutive: ConstitutiveConfig::DruckerPrager {
+                material: SoilMaterial {
+                    youngs_modulus: 0.84e6,
+                    poisson_ratio: 0.3,
+                    friction_angle_deg: 19.8,
+                    cohesion: 0.0,
+                    dilatancy_angle_deg: 0.0,
+                },
+                algorithm: ReturnAlgorithm::Bui2008,
+            },
+            artificial_viscosity: Some(ArtificialViscosityConfig {
+                alpha: 0.1,
+                beta: 0.0,
+            }),
+            artificial_stress: None,
+            damping: None,
+            regularisation: None,
+            walls: SoilWallConfig::default(),
+            geostatic: None,
+            cfl: 0.2,
+            reorder_every: 100,
+            neighbour_skin: 0.1,
+        }
+    }
+}
+
+/// A soil-solver setting out of range: the field (relative to the solver block) and what is
+/// allowed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("`{field}`: {message}")]
+pub struct ConfigError {
+    /// The field, e.g. `artificial_viscosity.alpha`.
+    pub field: String,
+    /// The allowed range and the value given.
+    pub message: String,
+}
+
+fn in_range(field: &str, value: Real, low: Real, high: Real) -> Result<(), ConfigError> {
+    if value.is_finite() && value >= low && value <= high {
+        Ok(())
+    } else {
+        Err(ConfigError {
+            field: field.to_owned(),
+            message: format!("must lie in [{low}, {high}], got {value}"),
+        })
+    }
+}
+
+impl From<MaterialError> for ConfigError {
+    fn from(error: MaterialError) -> Self {
+        Self {
+            field: format!("constitutive.{}", error.parameter),
+            message: format!("must lie in {}, got {}", error.allowed, error.value),
+        }
+    }
+}
+
+impl SoilConfig {
+    /// Checks every value against its allowed range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        self.constitutive.build()?;
+        if let Some(av) = self.artificial_viscosity {
+            in_range("artificial_viscosity.alpha", av.alpha, 0.0, 1.0)?;
+            in_range("artificial_viscosity.beta", av.beta, 0.0, 2.0)?;
+        }
+        if let Some(stress) = self.artificial_stress {
+            in_range("artificial_stress.epsilon", stress.epsilon, 1e-6, 1.0)?;
+            in_range("artificial_stress.exponent", stress.exponent, 1.0, 10.0)?;
+        }
+        if let Some(xi) = self.damping {
+            in_range("damping", xi, 0.0, 1.0)?;
+        }
+        if let Some(RegularisationConfig::Shepard { every } | RegularisationConfig::Mls { every }) =
+            self.regularisation
+            && every == 0
+        {
+            return Err(ConfigError {
+                field: "regularisation.every".into(),
+                message: "must be at least 1, got 0".into(),
+            });
+        }
+        if let WallSlip::Friction { angle_deg } = self.walls.slip
+            && !(angle_deg.is_finite() && (0.0..90.0).contains(&angle_deg))
+        {
+            return Err(ConfigError {
+                field: "walls.slip.angle_deg".into(),
+                message: format!("must lie in [0, 90) degrees, got {angle_deg}"),
+            });
+        }
+        in_range("walls.beta_max", self.walls.beta_max, 1.0, 2.0)?;
+        if let Some(geostatic) = &self.geostatic {
+            geostatic.validate()?;
+        }
+        if !(self.cfl.is_finite() && self.cfl > 0.0 && self.cfl <= 0.5) {
+            return Err(ConfigError {
+                field: "cfl".into(),
+                message: format!("must lie in (0, 0.5], got {}", self.cfl),
+            });
+        }
+        in_range("neighbour_skin", self.neighbour_skin, 0.0, 1.0)
+    }
+}
+
+/// Why a soil solver could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SoilError {
+    /// A configuration value is out of range.
+    #[error("soil solver {0}")]
+    Config(#[from] ConfigError),
+    /// The neighbour search failed (e.g. a particle left the domain).
+    #[error(transparent)]
+    Search(#[from] SearchError),
+    /// A step of the geostatic stage failed.
+    #[error("geostatic stage: {0}")]
+    Step(#[from] geosph_fluid::SolverError),
+}
+
+/// A built soil solver and the report of its geostatic stage, if the scene had one.
+pub struct SoilBuild<const D: usize> {
+    /// The solver, stepped by the runner like a fluid solver.
+    pub solver: Box<dyn FluidSolver<D>>,
+    /// What the geostatic stage reached.
+    pub geostatic: Option<GeostaticReport>,
+}
+
+/// Builds the soil solver that `config` describes for `particles` (whose soil fields it
+/// creates), monomorphised over the kernel, the artificial viscosity and the artificial
+/// stress, and runs the geostatic stage if the configuration has one.
+pub fn build_soil<const D: usize>(
+    config: &SoilConfig,
+    setup: FluidSetup<D>,
+    particles: &mut Particles<D>,
+) -> Result<SoilBuild<D>, SoilError> {
+    config.validate()?;
+    let (kernel, h) = (setup.kernel, setup.smoothing_length);
+    kernel.dispatch::<D, _>(
+        h,
+        SoilBuilder {
+            config,
+            setup,
+            particles,
+        },
+    )
+}
+
+struct SoilBuilder<'a, const D: usize> {
+    config: &'a SoilConfig,
+    setup: FluidSetup<D>,
+    particles: &'a mut Particles<D>,
+}
+
+impl<const D: usize> KernelVisitor<D> for SoilBuilder<'_, D> {
+    type Output = Result<SoilBuild<D>, SoilError>;
+
+    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
+        let model = self
+            .config
+            .constitutive
+            .build()
+            .map_err(ConfigError::from)?;
+        let wave_speed = (model.elastic().p_wave_modulus() / self.setup.rest_density).sqrt();
+        match self.config.artificial_viscosity {
+            None => self.with_viscosity(kernel, NoViscosity),
+            Some(av) => self.with_viscosity(
+                kernel,
+                ArtificialViscosityMonaghan {
+                    alpha: av.alpha,
+                    beta: av.beta,
+                    smoothing_length: kernel.smoothing_length(),
+                    wave_speed,
+                },
+            ),
+        }
+    }
+}
+
+impl<const D: usize> SoilBuilder<'_, D> {
+    fn with_viscosity<K: Kernel<D>, V: PairViscosity<D>>(
+        self,
+        kernel: K,
+        viscosity: V,
+    ) -> Result<SoilBuild<D>, SoilError> {
+        let spacing = particle_spacing::<D>(self.particles, self.setup.rest_density);
+        match self.config.artificial_stress {
+            None => self.finish(kernel, viscosity, NoArtificialStress),
+            Some(stress) => self.finish(
+                kernel,
+                viscosity,
+                ArtificialStressGray2001::new(&kernel, stress.epsilon, stress.exponent, spacing),
+            ),
+        }
+    }
+
+    fn finish<K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>(
+        self,
+        kernel: K,
+        viscosity: V,
+        artificial_stress: S,
+    ) -> Result<SoilBuild<D>, SoilError> {
+        let config = self.config;
+        let spacing = particle_spacing::<D>(self.particles, self.setup.rest_density);
+        let model = config.constitutive.build().map_err(ConfigError::from)?;
+        self.particles.enable_soil();
+        let system = SoilSystem::new(
+            kernel,
+            self.setup,
+            model,
+            viscosity,
+            artificial_stress,
+            config.walls,
+            spacing,
+            config.neighbour_skin,
+        )?;
+        let mut solver = SoilSolver::new(system, config.cfl, config.reorder_every);
+        solver.regularisation = config.regularisation;
+        let geostatic = match &config.geostatic {
+            Some(stage) => Some(run_geostatic_stage(&mut solver, self.particles, stage)?),
+            None => None,
+        };
+        solver.system.set_damping(config.damping.unwrap_or(0.0));
+        Ok(SoilBuild {
+            solver: Box::new(solver),
+            geostatic,
+        })
+    }
+}
+
+/// The lattice spacing dx = (m/ρ₀)^{1/D} of the first particle.
+fn particle_spacing<const D: usize>(particles: &Particles<D>, rest_density: Real) -> Real {
+    let mass = particles.mass.first().copied().unwrap_or(rest_density);
+    (mass / rest_density).powf(1.0 / D as Real)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn config_reads_from_ron_with_defaults_and_names_bad_fields() {
+        let config: SoilConfig = ron::from_str("(cfl: 0.1)").unwrap();
+        assert_eq!(config.cfl, 0.1);
+        assert!(config.validate().is_ok());
+        let bad = SoilConfig {
+            artificial_viscosity: Some(ArtificialViscosityConfig {
+                alpha: 3.0,
+                beta: 0.0,
+            }),
+            ..SoilConfig::default()
+        };
+        assert_eq!(
+            bad.validate().unwrap_err().field,
+            "artificial_viscosity.alpha"
+        );
+        let friction = SoilConfig {
+            walls: SoilWallConfig {
+                slip: WallSlip::Friction { angle_deg: 95.0 },
+                ..SoilWallConfig::default()
+            },
+            ..SoilConfig::default()
+        };
+        assert_eq!(
+            friction.validate().unwrap_err().field,
+            "walls.slip.angle_deg"
+        );
+        let material = SoilConfig {
+            constitutive: ConstitutiveConfig::LinearElastic {
+                youngs_modulus: -1.0,
+                poisson_ratio: 0.3,
+            },
+            ..SoilConfig::default()
+        };
+        let error = material.validate().unwrap_err();
+        assert_eq!(error.field, "constitutive.youngs_modulus");
+        let unknown = ron::from_str::<SoilConfig>("(cfl: 0.1, damping_ratio: 0.2)");
+        assert!(unknown.unwrap_err().to_string().contains("damping_ratio"));
+    }
+}

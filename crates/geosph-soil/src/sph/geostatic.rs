@@ -1,0 +1,339 @@
+//! The geostatic stage: gravity loading with damping until the soil is at rest, a check of the
+//! reached stress against the lithostatic σ_v, and the release.
+
+use std::collections::HashMap;
+
+use geosph_core::{Particles, Real, Vector};
+use geosph_fluid::FluidSolver;
+use geosph_kernels::Kernel;
+use serde::{Deserialize, Serialize};
+
+use crate::sph::config::{ConfigError, SoilError, WallSlip};
+use crate::sph::solver::SoilSolver;
+use crate::sph::terms::{PairViscosity, TensileCorrection};
+
+/// A box (lower and upper corner, `dimension` numbers each) of wall particles to remove at
+/// release, e.g. a retaining wall.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReleaseBox {
+    /// Lower corner.
+    pub min: Vec<Real>,
+    /// Upper corner.
+    pub max: Vec<Real>,
+}
+
+/// Parameters of the geostatic stage.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GeostaticConfig {
+    /// Damping ratio ζ of the fundamental mode of the soil height H: the stage damps with
+    /// μ = 2ζω₁, ω₁ = πc/(2H) (shear-free column, c the P-wave speed); default 1 (critical).
+    pub damping_ratio: Real,
+    /// The stage ends when E_k < tolerance × ½ M (gH/c)² (the kinetic energy of the whole
+    /// mass M at the particle speed gH/c of the loading wave) after at least one period
+    /// 4H/c of the fundamental mode; default 10⁻⁶.
+    pub kinetic_energy_tolerance: Real,
+    /// Longest stage in simulated seconds (default 1); a stage that reaches it reports
+    /// `converged = false`.
+    pub max_time: Real,
+    /// Wall particles removed at release.
+    pub release: Vec<ReleaseBox>,
+    /// Make every wall free-slip during the stage, as roller boundaries in a gravity-loading
+    /// step (default false): walls that hold the soil by shear carry part of its weight (the
+    /// silo effect of Janssen 1895), so σ_v falls short of ρ g (H − y) next to them. A
+    /// cohesionless column between free-slip walls may creep instead of coming to rest.
+    pub free_slip_walls: bool,
+}
+
+impl Default for GeostaticConfig {
+    fn default() -> Self {
+        Self {
+            damping_ratio: 1.0,
+            kinetic_energy_tolerance: 1e-6,
+            max_time: 1.0,
+            release: Vec::new(),
+            free_slip_walls: false,
+        }
+    }
+}
+
+impl GeostaticConfig {
+    /// Checks the ranges.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let check = |field: &str, value: Real, ok: bool, allowed: &str| {
+            if ok && value.is_finite() {
+                Ok(())
+            } else {
+                Err(ConfigError {
+                    field: format!("geostatic.{field}"),
+                    message: format!("must lie in {allowed}, got {value}"),
+                })
+            }
+        };
+        let zeta = self.damping_ratio;
+        check("damping_ratio", zeta, zeta > 0.0 && zeta <= 10.0, "(0, 10]")?;
+        let tol = self.kinetic_energy_tolerance;
+        check(
+            "kinetic_energy_tolerance",
+            tol,
+            tol > 0.0 && tol < 1.0,
+            "(0, 1)",
+        )?;
+        check("max_time", self.max_time, self.max_time > 0.0, "(0, inf)")?;
+        for (k, release) in self.release.iter().enumerate() {
+            if release.min.len() != release.max.len()
+                || release.min.iter().zip(&release.max).any(|(a, b)| !(a < b))
+            {
+                return Err(ConfigError {
+                    field: format!("geostatic.release[{k}]"),
+                    message: "needs min < max on every axis".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What the geostatic stage reached.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GeostaticReport {
+    /// Steps of the stage.
+    pub steps: usize,
+    /// Simulated time of the stage, s.
+    pub time: Real,
+    /// Whether E_k fell below the tolerance before `max_time`.
+    pub converged: bool,
+    /// Final E_k / (½ M (gH/c)²).
+    pub kinetic_energy_ratio: Real,
+    /// Root mean square of the undamped acceleration |a_i + μ v_i| over |g|: the equilibrium
+    /// residual of the SPH momentum equation.
+    pub residual_rms: Real,
+    /// Largest |a_i + μ v_i| / |g|.
+    pub residual_max: Real,
+    /// Particles deeper than two layers below the top of their column, where the stress is
+    /// compared.
+    pub checked_particles: usize,
+    /// Largest |σ_v − σ_v,ref| / |σ_v,ref| with σ_v,ref = −ρ₀ |g| (H − y), H the top of the
+    /// particle's column (tension positive).
+    pub vertical_stress_error_max: Real,
+    /// Mean of the same relative error.
+    pub vertical_stress_error_mean: Real,
+    /// Smallest, mean and largest σ_h/σ_v (σ_h the mean horizontal normal stress).
+    pub lateral_ratio: (Real, Real, Real),
+    /// Fraction of all particles that flowed plastically during the stage.
+    pub plastic_fraction: Real,
+    /// Wall particles removed at release.
+    pub released_walls: usize,
+}
+
+impl std::fmt::Display for GeostaticReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "geostatic stage: {} steps, {:.4} s, {} (E_k ratio {:.1e}); residual rms {:.2e} g, max {:.2e} g; \
+             sigma_v error max {:.2} %, mean {:.2} % over {} particles; sigma_h/sigma_v {:.3}..{:.3} (mean {:.3}); \
+             plastic {:.1} %; {} wall particles released",
+            self.steps,
+            self.time,
+            if self.converged {
+                "at rest"
+            } else {
+                "NOT at rest"
+            },
+            self.kinetic_energy_ratio,
+            self.residual_rms,
+            self.residual_max,
+            100.0 * self.vertical_stress_error_max,
+            100.0 * self.vertical_stress_error_mean,
+            self.checked_particles,
+            self.lateral_ratio.0,
+            self.lateral_ratio.2,
+            self.lateral_ratio.1,
+            100.0 * self.plastic_fraction,
+            self.released_walls
+        )
+    }
+}
+
+fn kinetic_energy<const D: usize>(soil: &Particles<D>) -> Real {
+    soil.velocity
+        .iter()
+        .zip(&soil.mass)
+        .map(|(v, m)| 0.5 * m * v.norm_squared())
+        .sum()
+}
+
+/// Runs the stage on `soil` with `solver`, then releases: removes the wall particles inside
+/// `config.release`, zeroes velocity, displacement, strain and plastic strain. The solver's
+/// own damping is left off; the caller sets the run's damping afterwards.
+pub fn run_geostatic_stage<
+    const D: usize,
+    K: Kernel<D>,
+    V: PairViscosity<D>,
+    S: TensileCorrection<D>,
+>(
+    solver: &mut SoilSolver<D, K, V, S>,
+    soil: &mut Particles<D>,
+    config: &GeostaticConfig,
+) -> Result<GeostaticReport, SoilError> {
+    let gravity = solver.system.gravity;
+    let g = gravity.norm();
+    if g == 0.0 {
+        return Err(SoilError::Config(ConfigError {
+            field: "geostatic".into(),
+            message: "a geostatic stage needs gravity".into(),
+        }));
+    }
+    let down = gravity / g;
+    let spacing = solver.system.spacing;
+    let height_of = |x: &Vector<D>| -x.dot(&down);
+    let (low, high) = soil
+        .position
+        .iter()
+        .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), x| {
+            (lo.min(height_of(x)), hi.max(height_of(x)))
+        });
+    let soil_height = high - low + spacing;
+    let c = solver.system.wave_speed;
+    let omega = std::f64::consts::PI * c / (2.0 * soil_height);
+    let damping = 2.0 * config.damping_ratio * omega;
+    solver.system.set_damping_rate(damping);
+    let run_slip = solver.system.wall_config.slip;
+    if config.free_slip_walls {
+        solver.system.wall_config.slip = WallSlip::FreeSlip;
+    }
+    let total_mass: Real = soil.mass.iter().sum();
+    let reference_speed = g * soil_height / c;
+    let reference_energy = 0.5 * total_mass * reference_speed * reference_speed;
+    let min_time = 4.0 * soil_height / c;
+    let (mut time, mut steps, mut converged) = (0.0, 0, false);
+    let mut ratio = Real::INFINITY;
+    while time < config.max_time {
+        let report = solver.step(soil, time, config.max_time - time)?;
+        time += report.dt;
+        steps += 1;
+        if steps % 10 == 0 || time >= config.max_time {
+            ratio = kinetic_energy(soil) / reference_energy;
+            if !ratio.is_finite() {
+                return Err(SoilError::Config(ConfigError {
+                    field: "geostatic".into(),
+                    message: format!("the stage blew up after {steps} steps (t = {time:.4} s)"),
+                }));
+            }
+            if time >= min_time && ratio < config.kinetic_energy_tolerance {
+                converged = true;
+                break;
+            }
+        }
+    }
+    let mu = solver.system.damping_rate();
+    let residuals: Vec<Real> = solver
+        .system
+        .acceleration()
+        .iter()
+        .zip(&soil.velocity)
+        .map(|(a, v)| (a + v * mu).norm() / g)
+        .collect();
+    let residual_rms =
+        (residuals.iter().map(|r| r * r).sum::<Real>() / residuals.len().max(1) as Real).sqrt();
+    let residual_max = residuals.iter().copied().fold(0.0, Real::max);
+    let mut report = stress_check(soil, &down, g, solver.system.rest_density, spacing);
+    report.steps = steps;
+    report.time = time;
+    report.converged = converged;
+    report.kinetic_energy_ratio = ratio;
+    report.residual_rms = residual_rms;
+    report.residual_max = residual_max;
+    report.released_walls = solver.system.remove_walls(|x| {
+        config
+            .release
+            .iter()
+            .any(|b| (0..D).all(|k| x[k] >= b.min[k] && x[k] <= b.max[k]))
+    })?;
+    solver.system.set_damping_rate(0.0);
+    solver.system.wall_config.slip = run_slip;
+    let fields = soil
+        .soil
+        .as_mut()
+        .expect("soil particles carry soil fields");
+    soil.velocity.fill(Vector::zeros());
+    fields.displacement.fill(nalgebra::Vector3::zeros());
+    fields.strain.fill(geosph_core::Tensor3::zeros());
+    fields.plastic_strain.fill(0.0);
+    Ok(report)
+}
+
+/// σ_v and σ_h/σ_v of the particles deeper than two layers below the top of their column
+/// (columns are bins of width dx across gravity).
+fn stress_check<const D: usize>(
+    soil: &Particles<D>,
+    down: &Vector<D>,
+    g: Real,
+    rest_density: Real,
+    spacing: Real,
+) -> GeostaticReport {
+    let fields = soil
+        .soil
+        .as_ref()
+        .expect("soil particles carry soil fields");
+    let column = |x: &Vector<D>| -> Vec<i64> {
+        let across = x + down * (-x.dot(down));
+        (0..D)
+            .map(|k| (across[k] / spacing).round() as i64)
+            .collect()
+    };
+    let mut top: HashMap<Vec<i64>, Real> = HashMap::new();
+    for x in &soil.position {
+        let height = -x.dot(down);
+        let entry = top.entry(column(x)).or_insert(Real::NEG_INFINITY);
+        *entry = entry.max(height);
+    }
+    let (mut count, mut error_max, mut error_sum) = (0, 0.0, 0.0);
+    let (mut ratio_min, mut ratio_sum, mut ratio_max) = (Real::INFINITY, 0.0, Real::NEG_INFINITY);
+    let mut plastic = 0;
+    for (i, x) in soil.position.iter().enumerate() {
+        if fields.plastic_strain[i] > 0.0 {
+            plastic += 1;
+        }
+        let column_top = top[&column(x)] + 0.5 * spacing;
+        let depth = column_top - (-x.dot(down));
+        if depth < 2.0 * spacing {
+            continue;
+        }
+        let sigma = &fields.stress[i];
+        let mut sigma_v = 0.0;
+        let mut trace = 0.0;
+        for a in 0..D {
+            trace += sigma[(a, a)];
+            for b in 0..D {
+                sigma_v += down[a] * sigma[(a, b)] * down[b];
+            }
+        }
+        let sigma_h = (trace - sigma_v) / (D - 1) as Real;
+        let reference = -rest_density * g * depth;
+        let error = ((sigma_v - reference) / reference).abs();
+        error_max = Real::max(error_max, error);
+        error_sum += error;
+        let ratio = sigma_h / sigma_v;
+        ratio_min = ratio_min.min(ratio);
+        ratio_max = ratio_max.max(ratio);
+        ratio_sum += ratio;
+        count += 1;
+    }
+    let n = count.max(1) as Real;
+    GeostaticReport {
+        steps: 0,
+        time: 0.0,
+        converged: false,
+        kinetic_energy_ratio: 0.0,
+        residual_rms: 0.0,
+        residual_max: 0.0,
+        checked_particles: count,
+        vertical_stress_error_max: error_max,
+        vertical_stress_error_mean: error_sum / n,
+        lateral_ratio: (ratio_min, ratio_sum / n, ratio_max),
+        plastic_fraction: plastic as Real / soil.len().max(1) as Real,
+        released_walls: 0,
+    }
+}

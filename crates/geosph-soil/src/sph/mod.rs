@@ -1,0 +1,28 @@
+//! The SPH coupling of the soil model: elastoplastic soil particles, soil walls, the geostatic
+//! stage and the solver the runner steps.
+//!
+//! - [`config`]: the scene block [`SoilConfig`] (constitutive model, stabilisation switches,
+//!   walls, geostatic stage), its validation and [`build_soil`].
+//! - [`system`]: [`SoilSystem`], one explicit step (velocity gradient, continuity, stress
+//!   update, momentum in symmetric form), monomorphised over kernel and switchable terms.
+//! - [`terms`]: artificial viscosity (Monaghan 1992) and artificial stress (Gray et al. 2001).
+//! - [`walls`]: Bui's β rule for dummy velocities and the wall-stress extrapolation.
+//! - [`regularise`]: Shepard and MLS stress regularisation (Nguyen et al. 2017).
+//! - [`geostatic`]: the geostatic stage with its [`GeostaticReport`] and the release.
+//! - [`solver`]: [`SoilSolver`], the time step and the per-step bookkeeping.
+
+pub mod config;
+pub mod geostatic;
+pub mod regularise;
+pub mod solver;
+pub mod system;
+pub mod terms;
+pub mod walls;
+
+pub use config::{
+    ArtificialStressConfig, ArtificialViscosityConfig, ConfigError, RegularisationConfig,
+    SoilBuild, SoilConfig, SoilError, SoilWallConfig, WallSlip, WallStress, build_soil,
+};
+pub use geostatic::{GeostaticConfig, GeostaticReport, ReleaseBox};
+pub use solver::SoilSolver;
+pub use system::SoilSystem;

@@ -1,0 +1,601 @@
+//! The soil SPH system: kinematics, stress update and momentum of one explicit step.
+
+use geosph_boundary::{RepulsiveLiu2012, WallParticles};
+use geosph_core::{Domain, Matrix, NeighbourList, Particles, Real, Tensor3, Vector};
+use geosph_fluid::config::FluidSetup;
+use geosph_kernels::Kernel;
+use geosph_neighbours::{CellGrid, SearchError};
+use rayon::prelude::*;
+
+use crate::constitutive::{Constitutive, SoilModel};
+use crate::invariants::mean_pressure;
+use crate::kinematics::{spin, strain_rate};
+use crate::sph::config::{SoilWallConfig, WallSlip, WallStress};
+use crate::sph::terms::{PairViscosity, TensileCorrection, block};
+use crate::sph::walls::{dummy_velocity, gravity_extrapolation};
+
+/// Smallest number of particles a parallel task handles.
+const MIN_CHUNK: usize = 256;
+
+/// One explicit step of elastoplastic soil SPH (Bui et al. 2008, Int. J. Numer. Anal. Meth.
+/// Geomech. 32:1537), monomorphised over the kernel `K`, the artificial viscosity `V` and the
+/// artificial stress `S`. With r_ij = x_i − x_j, ∇_i W_ij = r_ij W'(r)/r, V_j = m_j/ρ_j:
+///
+/// - velocity gradient (antisymmetric form): L_i = Σ_j V_j (v_j − v_i) ⊗ ∇_i W_ij, then
+///   ε̇ = ½(L + Lᵀ), ω = ½(L − Lᵀ), embedded in 3×3 (plane strain in 2D);
+/// - continuity: dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij;
+/// - stress: σ_i ← [`Constitutive::update`](σ_i, ε̇ Δt, ω Δt) (Jaumann rate, return map);
+/// - momentum (symmetric form, Bui et al. 2008 eq. 32, with eq. 33 and Gray et al. 2001):
+///   dv_i/dt = Σ_j m_j (σ_i/ρ_i² + σ_j/ρ_j² − Π_ij 1 + f_ij^n (R_i + R_j))·∇_i W_ij + g
+///   − μ_d v_i.
+///
+/// j runs over soil and dummy wall particles; a dummy particle has mass ρ₀ V_w, the velocity of
+/// Bui's rule ([`dummy_velocity`]) and the stress of [`WallStress`]. Artificial viscosity acts
+/// between soil particles only (Bui et al. 2008).
+///
+/// The step is staggered like explicit finite elements: the velocity gradient of v^n updates
+/// ρ and σ to n+1, the momentum equation with σ^{n+1} gives v^{n+1} = v^n + Δt a, and
+/// x^{n+1} = x^n + Δt v^{n+1} (symplectic Euler). Each particle sums its own neighbours
+/// (gather), so the result does not depend on the number of threads.
+pub struct SoilSystem<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>> {
+    /// Smoothing kernel.
+    pub kernel: K,
+    /// Domain.
+    pub domain: Domain<D>,
+    /// Constitutive model.
+    pub model: SoilModel,
+    /// Gravity g.
+    pub gravity: Vector<D>,
+    /// Dummy wall particles (their `pressure` holds p = −tr σ_w/3 for output).
+    pub walls: WallParticles<D>,
+    /// Wall condition.
+    pub wall_config: SoilWallConfig,
+    /// Reference density ρ₀ of the soil (and of the dummy particles).
+    pub rest_density: Real,
+    /// Initial particle spacing dx.
+    pub spacing: Real,
+    /// Elastic P-wave speed c = √((K + 4G/3)/ρ₀).
+    pub wave_speed: Real,
+    viscosity: V,
+    artificial_stress: S,
+    repulsive: Option<RepulsiveLiu2012>,
+    /// μ_d of the velocity damping (0: off).
+    damping_rate: Real,
+    soil_grid: CellGrid<D>,
+    wall_grid: CellGrid<D>,
+    soil_soil: NeighbourList,
+    soil_wall: NeighbourList,
+    wall_soil: NeighbourList,
+    skin: Real,
+    listed_position: Vec<Vector<D>>,
+    lists_valid: bool,
+    wall_stress: Vec<Tensor3>,
+    wall_term: Vec<Matrix<D>>,
+    velocity_gradient: Vec<Matrix<D>>,
+    density_rate: Vec<Real>,
+    stress_term: Vec<Matrix<D>>,
+    tensile_term: Vec<Matrix<D>>,
+    acceleration: Vec<Vector<D>>,
+}
+
+impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
+    SoilSystem<D, K, V, S>
+{
+    /// A system for the soil of `setup` (its `walls`, `domain`, `gravity`, `rest_density`).
+    ///
+    /// Neighbour lists use a Verlet skin of `skin_fraction` × support radius and are rebuilt
+    /// only after some particle moved more than half the skin (Verlet 1967).
+    pub fn new(
+        kernel: K,
+        setup: FluidSetup<D>,
+        model: SoilModel,
+        viscosity: V,
+        artificial_stress: S,
+        wall_config: SoilWallConfig,
+        spacing: Real,
+        skin_fraction: Real,
+    ) -> Result<Self, SearchError> {
+        let skin = skin_fraction.max(0.0) * kernel.support_radius();
+        let radius = kernel.support_radius() + skin;
+        let soil_grid = CellGrid::new(setup.domain.clone(), radius)?;
+        let mut wall_grid = CellGrid::new(setup.domain.clone(), radius)?;
+        wall_grid.build(&setup.walls.position)?;
+        let wave_speed = (model.elastic().p_wave_modulus() / setup.rest_density).sqrt();
+        let repulsive = wall_config.repulsive.then_some(RepulsiveLiu2012 {
+            sound_speed: wave_speed,
+            spacing,
+            smoothing_length: kernel.smoothing_length(),
+        });
+        let mut walls = setup.walls;
+        walls.density.fill(setup.rest_density);
+        Ok(Self {
+            kernel,
+            domain: setup.domain,
+            model,
+            gravity: setup.gravity,
+            walls,
+            wall_config,
+            rest_density: setup.rest_density,
+            spacing,
+            wave_speed,
+            viscosity,
+            artificial_stress,
+            repulsive,
+            damping_rate: 0.0,
+            soil_grid,
+            wall_grid,
+            soil_soil: NeighbourList::new(),
+            soil_wall: NeighbourList::new(),
+            wall_soil: NeighbourList::new(),
+            skin,
+            listed_position: Vec::new(),
+            lists_valid: false,
+            wall_stress: Vec::new(),
+            wall_term: Vec::new(),
+            velocity_gradient: Vec::new(),
+            density_rate: Vec::new(),
+            stress_term: Vec::new(),
+            tensile_term: Vec::new(),
+            acceleration: Vec::new(),
+        })
+    }
+
+    /// Sets the velocity damping of Nguyen et al. (2017): μ_d = ξ √(E/(ρ₀ h²)) (0: off).
+    pub fn set_damping(&mut self, xi: Real) {
+        let h = self.kernel.smoothing_length();
+        self.damping_rate =
+            xi * (self.model.elastic().youngs_modulus / (self.rest_density * h * h)).sqrt();
+    }
+
+    /// Sets μ_d of the velocity damping directly, in 1/s (0: off).
+    pub fn set_damping_rate(&mut self, rate: Real) {
+        self.damping_rate = rate;
+    }
+
+    /// μ_d of the velocity damping.
+    pub fn damping_rate(&self) -> Real {
+        self.damping_rate
+    }
+
+    /// The soil–soil neighbour list of the last step (self included).
+    pub fn soil_neighbours(&self) -> &NeighbourList {
+        &self.soil_soil
+    }
+
+    /// The accelerations of the last step, damping included.
+    pub fn acceleration(&self) -> &[Vector<D>] {
+        &self.acceleration
+    }
+
+    /// The soil grid, to rebuild for a Z-order sort; invalidates the neighbour lists.
+    pub fn soil_grid_for_sorting(&mut self) -> &mut CellGrid<D> {
+        self.lists_valid = false;
+        &mut self.soil_grid
+    }
+
+    /// Removes the wall particles for which `remove` is true (e.g. a retaining wall at release)
+    /// and returns how many were removed.
+    pub fn remove_walls(
+        &mut self,
+        remove: impl Fn(&Vector<D>) -> bool,
+    ) -> Result<usize, SearchError> {
+        let keep: Vec<bool> = self.walls.position.iter().map(|x| !remove(x)).collect();
+        let removed = keep.iter().filter(|&&k| !k).count();
+        if removed == 0 {
+            return Ok(0);
+        }
+        fn retain<T>(values: &mut Vec<T>, keep: &[bool]) {
+            let mut index = 0;
+            values.retain(|_| {
+                index += 1;
+                keep[index - 1]
+            });
+        }
+        let w = &mut self.walls;
+        retain(&mut w.position, &keep);
+        retain(&mut w.velocity, &keep);
+        retain(&mut w.acceleration, &keep);
+        retain(&mut w.volume, &keep);
+        retain(&mut w.normal, &keep);
+        retain(&mut w.depth, &keep);
+        retain(&mut w.pressure, &keep);
+        retain(&mut w.density, &keep);
+        retain(&mut w.viscous_velocity, &keep);
+        self.wall_grid.build(&self.walls.position)?;
+        self.lists_valid = false;
+        Ok(removed)
+    }
+
+    fn lists_stale(&self, position: &[Vector<D>]) -> bool {
+        if !self.lists_valid || self.listed_position.len() != position.len() {
+            return true;
+        }
+        let domain = &self.domain;
+        let largest = position
+            .par_iter()
+            .zip(self.listed_position.par_iter())
+            .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
+            .reduce(|| 0.0, Real::max);
+        4.0 * largest > self.skin * self.skin
+    }
+
+    /// Wraps periodic positions and rebuilds stale neighbour lists; sizes the scratch arrays.
+    pub fn update_lists(&mut self, soil: &mut Particles<D>) -> Result<(), SearchError> {
+        if self.domain.is_periodic() {
+            let domain = &self.domain;
+            soil.position.par_iter_mut().for_each(|x| domain.wrap(x));
+        }
+        if self.lists_stale(&soil.position) {
+            self.soil_grid.build(&soil.position)?;
+            self.soil_grid
+                .neighbour_list(&soil.position, &soil.position, &mut self.soil_soil);
+            self.wall_grid.neighbour_list(
+                &self.walls.position,
+                &soil.position,
+                &mut self.soil_wall,
+            );
+            self.soil_grid.neighbour_list(
+                &soil.position,
+                &self.walls.position,
+                &mut self.wall_soil,
+            );
+            self.listed_position.clone_from(&soil.position);
+            self.lists_valid = true;
+        }
+        let n = soil.len();
+        self.velocity_gradient.resize(n, Matrix::zeros());
+        self.density_rate.resize(n, 0.0);
+        self.stress_term.resize(n, Matrix::zeros());
+        self.tensile_term.resize(n, Matrix::zeros());
+        self.acceleration.resize(n, Vector::zeros());
+        self.wall_stress.resize(self.walls.len(), Tensor3::zeros());
+        self.wall_term.resize(self.walls.len(), Matrix::zeros());
+        Ok(())
+    }
+
+    /// Advances the soil by `dt` (see the type's documentation for the scheme).
+    pub fn step(&mut self, soil: &mut Particles<D>, dt: Real) -> Result<(), SearchError> {
+        self.update_lists(soil)?;
+        self.kinematics(soil);
+        self.update_stress(soil, dt);
+        self.update_walls(soil);
+        self.momentum(soil, dt);
+        let Particles {
+            position,
+            velocity,
+            soil: fields,
+            ..
+        } = soil;
+        let fields = fields.as_mut().expect("soil particles carry soil fields");
+        let (acceleration, damping) = (&self.acceleration, self.damping_rate);
+        (
+            position.par_iter_mut(),
+            velocity.par_iter_mut(),
+            fields.displacement.par_iter_mut(),
+            acceleration.par_iter(),
+        )
+            .into_par_iter()
+            .with_min_len(MIN_CHUNK)
+            .for_each(|(x, v, u, a)| {
+                // Damping implicit in v, so any μ_d Δt is stable: v ← (v + Δt a)/(1 + μ_d Δt).
+                *v = (*v + a * dt) / (1.0 + damping * dt);
+                *x += *v * dt;
+                for k in 0..D {
+                    u[k] += v[k] * dt;
+                }
+            });
+        Ok(())
+    }
+
+    /// L_i and dρ_i/dt of every soil particle from v^n.
+    fn kinematics(&mut self, soil: &Particles<D>) {
+        let Self {
+            kernel,
+            domain,
+            walls,
+            wall_config,
+            soil_soil,
+            soil_wall,
+            velocity_gradient,
+            density_rate,
+            rest_density,
+            ..
+        } = self;
+        let (kernel, domain, walls, rest_density) = (*kernel, &*domain, &*walls, *rest_density);
+        let free_slip = wall_config.slip != WallSlip::NoSlip;
+        let beta_max = wall_config.beta_max;
+        let Particles {
+            position,
+            velocity,
+            mass,
+            density,
+            ..
+        } = soil;
+        velocity_gradient
+            .par_iter_mut()
+            .zip(density_rate.par_iter_mut())
+            .enumerate()
+            .with_min_len(MIN_CHUNK)
+            .for_each(|(i, (gradient, rate))| {
+                let (x_i, v_i) = (position[i], velocity[i]);
+                let mut l = Matrix::<D>::zeros();
+                let mut drho = 0.0;
+                for &j in soil_soil.neighbours(i) {
+                    let j = j as usize;
+                    if j == i {
+                        continue;
+                    }
+                    let r_ij = domain.displacement(&x_i, &position[j]);
+                    let grad = r_ij * kernel.gradient_factor(r_ij.norm());
+                    let dv = velocity[j] - v_i;
+                    l += (dv * (mass[j] / density[j])) * grad.transpose();
+                    drho -= mass[j] * dv.dot(&grad);
+                }
+                for &w in soil_wall.neighbours(i) {
+                    let w = w as usize;
+                    let x_w = walls.position[w];
+                    let r_iw = domain.displacement(&x_i, &x_w);
+                    let grad = r_iw * kernel.gradient_factor(r_iw.norm());
+                    let v_w = dummy_velocity(
+                        &x_i,
+                        &v_i,
+                        &(x_i - r_iw),
+                        &walls.normal[w],
+                        walls.depth[w],
+                        &walls.velocity[w],
+                        beta_max,
+                        free_slip,
+                    );
+                    let dv = v_w - v_i;
+                    let volume = walls.volume[w];
+                    l += (dv * volume) * grad.transpose();
+                    drho -= rest_density * volume * dv.dot(&grad);
+                }
+                *gradient = l;
+                *rate = drho;
+            });
+    }
+
+    /// ρ^{n+1}, σ^{n+1}, strain, plastic strain, σ/ρ² and the artificial stress.
+    fn update_stress(&mut self, soil: &mut Particles<D>, dt: Real) {
+        let Particles {
+            density,
+            soil: fields,
+            ..
+        } = soil;
+        let fields = fields.as_mut().expect("soil particles carry soil fields");
+        let (model, artificial_stress) = (self.model, self.artificial_stress);
+        (
+            density.par_iter_mut(),
+            fields.stress.par_iter_mut(),
+            fields.strain.par_iter_mut(),
+            fields.plastic_strain.par_iter_mut(),
+            self.velocity_gradient.par_iter(),
+            self.density_rate.par_iter(),
+            self.stress_term.par_iter_mut(),
+            self.tensile_term.par_iter_mut(),
+        )
+            .into_par_iter()
+            .with_min_len(MIN_CHUNK)
+            .for_each(|(rho, sigma, strain, plastic, l, rate, term, tensile)| {
+                *rho += rate * dt;
+                let strain_increment = strain_rate(l) * dt;
+                let update = model.update(sigma, &strain_increment, &(spin(l) * dt));
+                *sigma = update.stress;
+                *strain += strain_increment;
+                *plastic += update.equivalent_plastic_strain_increment;
+                let stress_block = block::<D>(sigma);
+                *term = stress_block / (*rho * *rho);
+                if S::ON {
+                    *tensile = artificial_stress.particle_term(sigma, *rho);
+                }
+            });
+    }
+
+    /// σ_w of every dummy particle from the soil around it ([`WallStress`]).
+    fn update_walls(&mut self, soil: &Particles<D>) {
+        let fields = soil
+            .soil
+            .as_ref()
+            .expect("soil particles carry soil fields");
+        let (kernel, domain, gravity) = (self.kernel, &self.domain, self.gravity);
+        let extrapolate = self.wall_config.stress == WallStress::Extrapolated;
+        let rho_w = self.rest_density;
+        let wall_soil = &self.wall_soil;
+        let walls = &mut self.walls;
+        (
+            self.wall_stress.par_iter_mut(),
+            self.wall_term.par_iter_mut(),
+            walls.pressure.par_iter_mut(),
+            walls.position.par_iter(),
+        )
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(MIN_CHUNK)
+            .for_each(|(w, (stress, term, pressure, x_w))| {
+                let mut sum = Tensor3::zeros();
+                let mut weight = 0.0;
+                for &i in wall_soil.neighbours(w) {
+                    let i = i as usize;
+                    let r_iw = domain.displacement(&soil.position[i], x_w);
+                    let kernel_value = kernel.value(r_iw.norm());
+                    if kernel_value <= 0.0 {
+                        continue;
+                    }
+                    let mut sigma = fields.stress[i];
+                    if extrapolate {
+                        sigma += gravity_extrapolation(soil.density[i], &gravity, &r_iw);
+                    }
+                    sum += sigma * kernel_value;
+                    weight += kernel_value;
+                }
+                *stress = if weight > 0.0 {
+                    sum / weight
+                } else {
+                    Tensor3::zeros()
+                };
+                *term = block::<D>(stress) / (rho_w * rho_w);
+                *pressure = mean_pressure(stress);
+            });
+    }
+
+    /// dv_i/dt of every soil particle with σ^{n+1}.
+    fn momentum(&mut self, soil: &Particles<D>, dt: Real) {
+        let Self {
+            kernel,
+            domain,
+            gravity,
+            walls,
+            wall_config,
+            rest_density,
+            viscosity,
+            artificial_stress,
+            repulsive,
+            damping_rate,
+            soil_soil,
+            soil_wall,
+            wall_term,
+            stress_term,
+            tensile_term,
+            acceleration,
+            ..
+        } = self;
+        let (kernel, domain, gravity, walls) = (*kernel, &*domain, *gravity, &*walls);
+        let (viscosity, artificial_stress, repulsive) =
+            (*viscosity, *artificial_stress, *repulsive);
+        let (rest_density, damping_rate) = (*rest_density, *damping_rate);
+        let friction = match wall_config.slip {
+            WallSlip::Friction { angle_deg } => Some(angle_deg.to_radians().tan()),
+            _ => None,
+        };
+        let Particles {
+            position,
+            velocity,
+            mass,
+            density,
+            ..
+        } = soil;
+        acceleration
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(MIN_CHUNK)
+            .for_each(|(i, acceleration)| {
+                let (x_i, v_i, rho_i) = (position[i], velocity[i], density[i]);
+                let (term_i, tensile_i) = (stress_term[i], tensile_term[i]);
+                let mut a_i = Vector::<D>::zeros();
+                for &j in soil_soil.neighbours(i) {
+                    let j = j as usize;
+                    if j == i {
+                        continue;
+                    }
+                    let r_ij = domain.displacement(&x_i, &position[j]);
+                    let r2 = r_ij.norm_squared();
+                    let r = r2.sqrt();
+                    let grad = r_ij * kernel.gradient_factor(r);
+                    let mut term = term_i + stress_term[j];
+                    if V::ON {
+                        let pi = viscosity.pi(
+                            &r_ij,
+                            &(v_i - velocity[j]),
+                            r2,
+                            0.5 * (rho_i + density[j]),
+                        );
+                        for k in 0..D {
+                            term[(k, k)] -= pi;
+                        }
+                    }
+                    if S::ON {
+                        let f = artificial_stress.pair_factor(kernel.value(r));
+                        term += (tensile_i + tensile_term[j]) * f;
+                    }
+                    a_i += term * grad * mass[j];
+                }
+                let mut a_wall = Vector::<D>::zeros();
+                let mut wall_normal = Vector::<D>::zeros();
+                for &w in soil_wall.neighbours(i) {
+                    let w = w as usize;
+                    let r_iw = domain.displacement(&x_i, &walls.position[w]);
+                    let r = r_iw.norm();
+                    let grad = r_iw * kernel.gradient_factor(r);
+                    let mut term = term_i + wall_term[w];
+                    if S::ON {
+                        term += tensile_i * artificial_stress.pair_factor(kernel.value(r));
+                    }
+                    a_wall += term * grad * (rest_density * walls.volume[w]);
+                    if let Some(repulsive) = &repulsive {
+                        a_wall += repulsive.acceleration(&r_iw);
+                    }
+                    if friction.is_some() {
+                        wall_normal += walls.normal[w] * kernel.value(r);
+                    }
+                }
+                a_i += gravity + a_wall;
+                if let Some(tan_delta) = friction {
+                    a_i += coulomb_friction(&wall_normal, &a_wall, &v_i, &a_i, tan_delta, dt);
+                }
+                *acceleration = a_i - v_i * damping_rate;
+            });
+    }
+}
+
+/// The Coulomb friction acceleration of a soil particle next to a fixed wall with friction
+/// coefficient μ = tan δ: with n the (kernel-averaged) wall normal, the wall's normal push
+/// a_n = a_wall·n, and the tangential velocity the step would reach without friction,
+/// v_t* = (v + Δt a) − ((v + Δt a)·n) n, the friction is
+///
+/// a_f = −min(μ a_n, |v_t*|/Δt) v_t*/|v_t*|  (a_n > 0; else 0),
+///
+/// i.e. kinetic friction μ a_n opposing the sliding, or sticking (v_t = 0) when μ a_n could
+/// stop the particle within the step (static friction).
+#[inline]
+fn coulomb_friction<const D: usize>(
+    wall_normal: &Vector<D>,
+    a_wall: &Vector<D>,
+    velocity: &Vector<D>,
+    acceleration: &Vector<D>,
+    tan_delta: Real,
+    dt: Real,
+) -> Vector<D> {
+    let length = wall_normal.norm();
+    if length == 0.0 {
+        return Vector::zeros();
+    }
+    let n = wall_normal / length;
+    let push = a_wall.dot(&n);
+    if push <= 0.0 {
+        return Vector::zeros();
+    }
+    let v_star = velocity + acceleration * dt;
+    let tangential = v_star - n * v_star.dot(&n);
+    let speed = tangential.norm();
+    if speed == 0.0 {
+        return Vector::zeros();
+    }
+    let magnitude = (tan_delta * push).min(speed / dt);
+    -tangential * (magnitude / speed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn friction_slows_sliding_and_sticks_slow_particles() {
+        let n = Vector::<2>::new(0.0, 2.0);
+        let push = Vector::<2>::new(0.0, 10.0);
+        let fast = Vector::<2>::new(1.0, 0.0);
+        let a = Vector::<2>::zeros();
+        let f = coulomb_friction(&n, &push, &fast, &a, 0.5, 1e-3);
+        assert_relative_eq!(f[0], -5.0, epsilon = 1e-12);
+        assert_eq!(f[1], 0.0);
+        let slow = Vector::<2>::new(1e-3, 0.0);
+        let f = coulomb_friction(&n, &push, &slow, &a, 0.5, 1e-3);
+        assert_relative_eq!(slow[0] + f[0] * 1e-3, 0.0, epsilon = 1e-15);
+        let pull = -push;
+        assert_eq!(
+            coulomb_friction(&n, &pull, &fast, &a, 0.5, 1e-3),
+            Vector::zeros()
+        );
+    }
+}
