@@ -4,4 +4,5 @@ mod dam_break;
 mod kernels;
 mod neighbours;
 mod soil_element;
+mod soil_sph;
 mod wcsph;

@@ -1,4 +1,4 @@
-//! Constitutive core of the geosph soil model, usable without SPH.
+//! The geosph soil model: a constitutive core usable without SPH, and its SPH coupling.
 //!
 //! Conventions: stress σ is the Cauchy stress with **tension positive**, always a symmetric
 //! 3×3 [`Tensor3`](geosph_core::Tensor3), also in 2D (plane strain: ε_zz = 0, σ_zz evolves).
@@ -22,6 +22,29 @@
 //! - [`element`]: the single-material-point element-test driver (simple shear, oedometer,
 //!   drained triaxial compression, any velocity gradient) returning the (p, q) stress path,
 //!   with CSV output.
+//! - [`sph`]: the SPH coupling — soil particles, soil walls, the geostatic stage and the solver
+//!   the runner steps ([`build_soil`] from a scene's [`SoilConfig`]).
+//!
+//! The Drucker–Prager return map on one stress, without SPH:
+//!
+//! ```
+//! use geosph_core::Tensor3;
+//! use geosph_soil::{Constitutive, DruckerPragerBui2008, ReturnAlgorithm, Response, SoilMaterial};
+//!
+//! // The aluminium bars of Bui et al. (2008): E = 0.84 MPa, ν = 0.3, φ = 19.8°, c = 0, ψ = 0.
+//! let bars = SoilMaterial::new(0.84e6, 0.3, 19.8, 0.0, 0.0).unwrap();
+//! let model = DruckerPragerBui2008::new(bars, ReturnAlgorithm::ConsistentReturn).unwrap();
+//! // Isotropic compression of 1 kPa, then a large shear strain increment.
+//! let stress = Tensor3::identity() * -1e3;
+//! let mut shear = Tensor3::zeros();
+//! shear[(0, 1)] = 1e-2;
+//! shear[(1, 0)] = 1e-2;
+//! let update = model.update(&stress, &shear, &Tensor3::zeros());
+//! assert_eq!(update.response, Response::Cone);
+//! // Back on the yield surface f = √J₂ + α_φ I₁ − k_c = 0, with plastic strain.
+//! assert!(model.yield_function(&update.stress).unwrap().abs() < 1e-9);
+//! assert!(update.equivalent_plastic_strain_increment > 0.0);
+//! ```
 #![warn(missing_docs)]
 
 pub mod constitutive;

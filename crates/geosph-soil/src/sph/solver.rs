@@ -98,30 +98,6 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         let dt = event_step(self.stable_step(soil), max_dt);
         self.system.step(soil, dt)?;
         self.steps += 1;
-        if std::env::var("SOIL_DEBUG").is_ok() && self.steps % 50 == 0 {
-            let acc = self.system.acceleration();
-            let (i, a) = acc
-                .iter()
-                .enumerate()
-                .max_by(|a, b| a.1.norm().total_cmp(&b.1.norm()))
-                .unwrap();
-            let f = soil.soil.as_ref().unwrap();
-            eprintln!(
-                "DBG step {} dt {:.2e} |a|max {:.3e} at i {} x {:?} v {:?} rho {:.1} sigma xx {:.1} yy {:.1} xy {:.1} zz {:.1} nb {}",
-                self.steps,
-                dt,
-                a.norm(),
-                i,
-                soil.position[i].as_slice(),
-                soil.velocity[i].as_slice(),
-                soil.density[i],
-                f.stress[i][(0, 0)],
-                f.stress[i][(1, 1)],
-                f.stress[i][(0, 1)],
-                f.stress[i][(2, 2)],
-                self.system.soil_neighbours().neighbours(i).len()
-            );
-        }
         if let Some(regularisation) = self.regularisation {
             let (every, mls) = match regularisation {
                 RegularisationConfig::Shepard { every } => (every, false),
