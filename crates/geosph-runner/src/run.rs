@@ -121,6 +121,14 @@ pub enum RunError {
         /// What went wrong.
         diagnosis: Diagnosis,
     },
+    /// The output folder cannot be created or written; found before any work is done.
+    #[error("output folder `{}`: {reason}", path.display())]
+    OutputFolder {
+        /// The folder asked for.
+        path: PathBuf,
+        /// Why it cannot be used.
+        reason: String,
+    },
     /// Writing output failed.
     #[error("output: {0}")]
     Output(#[from] geosph_io::Error),
@@ -135,6 +143,12 @@ where
     O: Observer<2> + Observer<3> + Send,
 {
     scene.validate()?;
+    if let Some(dir) = &options.out_dir {
+        crate::output::check_folder(dir).map_err(|reason| RunError::OutputFolder {
+            path: dir.clone(),
+            reason,
+        })?;
+    }
     let mut work = || match scene.dimension {
         2 => run_in::<2, O>(scene, options, observer),
         _ => run_in::<3, O>(scene, options, observer),

@@ -181,12 +181,10 @@ impl SolverSpec {
 }
 
 impl Scene {
-    /// Reads a scene from RON text; errors carry the line and column.
+    /// Reads a scene from RON text; errors carry the line and column, the path of the field
+    /// being read (e.g. `fluid.blocks[0].max`) and the offending text.
     pub fn from_ron(text: &str) -> Result<Self, SceneError> {
-        ron::Options::default()
-            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
-            .from_str(text)
-            .map_err(|error| SceneError::Parse(error.to_string()))
+        crate::parse::scene(text)
     }
 
     /// Writes the scene as pretty RON.
@@ -235,7 +233,7 @@ mod tests {
         let text = "Scene(\n  name: \"x\",\n  dimension: 2,\n  dxx: 0.1,\n)";
         let message = Scene::from_ron(text).unwrap_err().to_string();
         assert!(
-            message.contains("4:") && message.contains("dxx"),
+            message.contains("line 4, column 3") && message.contains("dxx"),
             "{message}"
         );
     }

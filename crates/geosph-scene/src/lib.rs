@@ -12,6 +12,7 @@
 #![warn(missing_docs)]
 
 pub mod format;
+mod parse;
 pub mod setup;
 pub mod validate;
 

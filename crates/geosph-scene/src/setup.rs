@@ -64,6 +64,41 @@ fn to_dimension<const D: usize>(plane: WallParticles<2>) -> WallParticles<D> {
     }
 }
 
+/// The first fluid particle `i` closer than `gap` (minus round-off) to a wall particle `j`, with
+/// the distance; by hashing the wall particles into cells of size `gap`.
+fn overlap<const D: usize>(
+    fluid: &[Vector<D>],
+    walls: &[Vector<D>],
+    gap: Real,
+) -> Option<(usize, usize, Real)> {
+    use std::collections::HashMap;
+    let cell = |x: &Vector<D>| -> [i64; D] { std::array::from_fn(|k| (x[k] / gap).floor() as i64) };
+    let mut cells: HashMap<[i64; D], Vec<usize>> = HashMap::new();
+    for (j, x) in walls.iter().enumerate() {
+        cells.entry(cell(x)).or_default().push(j);
+    }
+    let limit = gap * (1.0 - 1e-9);
+    let offsets = 3_usize.pow(D as u32);
+    for (i, x) in fluid.iter().enumerate() {
+        let home = cell(x);
+        for offset in 0..offsets {
+            let mut key = home;
+            let mut rest = offset;
+            for k in 0..D {
+                key[k] += (rest % 3) as i64 - 1;
+                rest /= 3;
+            }
+            for &j in cells.get(&key).into_iter().flatten() {
+                let distance = (x - walls[j]).norm();
+                if distance < limit {
+                    return Some((i, j, distance));
+                }
+            }
+        }
+    }
+    None
+}
+
 fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
     Vector::<D>::from_fn(|k, _| values[k])
 }
@@ -157,7 +192,10 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     }
 
     let mut walls = WallParticles::default();
+    // The first wall particle of each wall, to name the wall a fluid particle overlaps.
+    let mut wall_starts = Vec::with_capacity(scene.walls.len());
     for (index, wall) in scene.walls.iter().enumerate() {
+        wall_starts.push(walls.len());
         match wall {
             WallSpec::Tank {
                 min,
@@ -196,6 +234,20 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                 walls.extend(to_dimension::<D>(plane));
             }
         }
+    }
+
+    if let Some((i, j, distance)) = overlap(&fluid.position, &walls.position, 0.5 * dx) {
+        let wall = wall_starts.partition_point(|&start| start <= j) - 1;
+        return Err(SceneError::Field {
+            field: format!("walls[{wall}]"),
+            message: format!(
+                "fluid particle {i} at {:?} is {distance:.3e} m from wall particle {j} at {:?}, \
+                 closer than dx/2 = {}: the fluid overlaps the wall",
+                fluid.position[i].as_slice(),
+                walls.position[j].as_slice(),
+                0.5 * dx
+            ),
+        });
     }
 
     let domain = match &scene.domain {
