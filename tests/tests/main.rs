@@ -1,7 +1,10 @@
 //! Validation tests of geosph: one test binary, one module per subject.
 mod corrections;
 mod dam_break;
+mod determinism;
+mod hostile_scenes;
 mod kernels;
 mod neighbours;
+mod output_integrity;
 mod soil_element;
 mod wcsph;

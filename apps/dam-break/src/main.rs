@@ -44,7 +44,10 @@ fn load(cli: &Cli) -> Result<Scene, String> {
             .map_err(|error| format!("cannot read scene {}: {error}", path.display()))?,
         None => dam_break::DEFAULT_SCENE.to_owned(),
     };
-    let mut scene = Scene::from_ron(&text).map_err(|error| error.to_string())?;
+    let mut scene = Scene::from_ron(&text).map_err(|error| match &cli.scene {
+        Some(path) => format!("{}: {error}", path.display()),
+        None => error.to_string(),
+    })?;
     if let Some(dx) = cli.dx {
         scene.dx = dx;
     }
@@ -56,6 +59,10 @@ fn load(cli: &Cli) -> Result<Scene, String> {
     {
         scene.solver = SolverSpec::Wcsph(Default::default());
     }
+    // Everything a user can get wrong is reported here, before any output or banner.
+    scene.validate().map_err(|error| error.to_string())?;
+    geosph_runner::output::check_folder(&cli.out)
+        .map_err(|reason| format!("output folder `{}`: {reason}", cli.out.display()))?;
     Ok(scene)
 }
 

@@ -42,7 +42,12 @@ pub fn check_folder(dir: &Path) -> Result<(), String> {
                     existing.display()
                 ));
             }
-            Err(error) if error.kind() == std::io::ErrorKind::NotFound => {
+            Err(error)
+                if matches!(
+                    error.kind(),
+                    std::io::ErrorKind::NotFound | std::io::ErrorKind::NotADirectory
+                ) =>
+            {
                 existing = match existing.parent() {
                     Some(parent) if !parent.as_os_str().is_empty() => parent,
                     _ if existing != Path::new(".") => Path::new("."),

@@ -43,6 +43,8 @@ fn spanned(text: &str, error: &ron::error::SpannedError, path: &str) -> SceneErr
     // serde_path_to_error writes `?` for a path it could not follow and `.` for the root.
     if !path.is_empty() && path != "." && path != "?" {
         message.push_str(&format!("field `{path}`: "));
+    } else if let Some(field) = offset(text, start).and_then(|end| last_field(text, end)) {
+        message.push_str(&format!("after field `{field}`: "));
     }
     message.push_str(&one_line(&error.code.to_string()));
     if let Some(found) = excerpt(text, &error.span) {
@@ -53,20 +55,7 @@ fn spanned(text: &str, error: &ron::error::SpannedError, path: &str) -> SceneErr
 
 /// The text of `span` (or, for an empty span, the token at its start), shortened to one line.
 fn excerpt(text: &str, span: &ron::error::Span) -> Option<String> {
-    let offset = |position: &ron::error::Position| -> Option<usize> {
-        let line = text.split_inclusive('\n').nth(position.line.checked_sub(1)?)?;
-        let before: usize = text
-            .split_inclusive('\n')
-            .take(position.line - 1)
-            .map(str::len)
-            .sum();
-        // Columns count characters, 1-based.
-        let within = line
-            .char_indices()
-            .nth(position.col.checked_sub(1)?)
-            .map_or(line.len(), |(at, _)| at);
-        Some(before + within)
-    };
+    let offset = |position: &ron::error::Position| offset(text, position);
     let mut start = offset(&span.start)?;
     // ron points at the digits of a negative number.
     if text[..start].ends_with('-') {
@@ -92,6 +81,42 @@ fn excerpt(text: &str, span: &ron::error::Span) -> Option<String> {
         Some((at, _)) => format!("{}…", &token[..at]),
         None => token,
     })
+}
+
+/// The byte offset of a ron line:column (1-based, columns counting characters) in `text`.
+fn offset(text: &str, position: &ron::error::Position) -> Option<usize> {
+    let line = text.split_inclusive('\n').nth(position.line.checked_sub(1)?)?;
+    let before: usize = text
+        .split_inclusive('\n')
+        .take(position.line - 1)
+        .map(str::len)
+        .sum();
+    let within = line
+        .char_indices()
+        .nth(position.col.checked_sub(1)?)
+        .map_or(line.len(), |(at, _)| at);
+    Some(before + within)
+}
+
+/// The last `identifier:` before `end` in `text`: the field whose value was being read when
+/// ron stopped outside any value (e.g. at `2.5` of an integer field), outside comments.
+fn last_field(text: &str, end: usize) -> Option<&str> {
+    let before = text.get(..end)?;
+    let mut found = None;
+    for line in before.lines() {
+        let code = line.split("//").next().unwrap_or("");
+        let bytes = code.as_bytes();
+        for (colon, _) in code.match_indices(':') {
+            let name_end = code[..colon].trim_end().len();
+            let name_start = code[..name_end]
+                .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .map_or(0, |at| at + 1);
+            if name_start < name_end && !bytes[name_start].is_ascii_digit() {
+                found = Some(&code[name_start..name_end]);
+            }
+        }
+    }
+    found
 }
 
 /// `text` with line breaks replaced by spaces.

@@ -99,6 +99,40 @@ fn overlap<const D: usize>(
     None
 }
 
+/// The first fluid particle that lies behind the polyline `points` (on the side away from
+/// the flow, beyond round-off) by less than `thickness`, i.e. inside the wall's particle
+/// layers, with how far behind it is. Only the first two coordinates count.
+fn behind_polyline<const D: usize>(
+    fluid: &[Vector<D>],
+    points: &[Vector<2>],
+    flow: generate::FlowSide,
+    thickness: Real,
+) -> Option<(usize, Real)> {
+    for segment in points.windows(2) {
+        let (start, end) = (segment[0], segment[1]);
+        let length = (end - start).norm();
+        if length <= 0.0 {
+            continue;
+        }
+        let tangent = (end - start) / length;
+        let left = Vector::<2>::new(-tangent[1], tangent[0]);
+        let into_flow = match flow {
+            generate::FlowSide::Left => left,
+            generate::FlowSide::Right => -left,
+        };
+        let round_off = 1e-9 * length;
+        for (i, x) in fluid.iter().enumerate() {
+            let relative = Vector::<2>::new(x[0], x[1]) - start;
+            let along = relative.dot(&tangent);
+            let behind = -relative.dot(&into_flow);
+            if along >= 0.0 && along <= length && behind > round_off && behind < thickness {
+                return Some((i, behind));
+            }
+        }
+    }
+    None
+}
+
 fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
     Vector::<D>::from_fn(|k, _| values[k])
 }
@@ -230,6 +264,15 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     .iter()
                     .map(|&(x, y)| Vector::<2>::new(x, y))
                     .collect();
+                if let Some((i, behind)) = behind_polyline(&fluid.position, &points, *flow_side, *layers as Real * dx) {
+                    return Err(SceneError::Field {
+                        field: format!("walls[{index}]"),
+                        message: format!(
+                            "fluid particle {i} at {:?} lies {behind:.3e} m behind the line, inside the wall's {layers} layers: the fluid overlaps the wall (flow_side: {flow_side:?})",
+                            fluid.position[i].as_slice()
+                        ),
+                    });
+                }
                 let plane = generate::polyline(&points, dx, *layers, *flow_side, rest_density);
                 walls.extend(to_dimension::<D>(plane));
             }

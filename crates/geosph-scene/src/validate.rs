@@ -241,6 +241,17 @@ impl Scene {
                 ));
             }
         }
+        let particles = self.estimated_particles();
+        if particles > MAX_PARTICLES {
+            return Err(fail(
+                "dx",
+                format!(
+                    "{} m would make about {particles:.3e} particles, more than {MAX_PARTICLES:.0e}: \
+                     increase dx (is it in metres?) or shrink the regions",
+                    self.dx
+                ),
+            ));
+        }
         for (index, wall) in self.walls.iter().enumerate() {
             if let WallSpec::Tank {
                 min, max, layers, ..
@@ -258,17 +269,6 @@ impl Scene {
                     ));
                 }
             }
-        }
-        let particles = self.estimated_particles();
-        if particles > MAX_PARTICLES {
-            return Err(fail(
-                "dx",
-                format!(
-                    "{} m would make about {particles:.3e} particles, more than {MAX_PARTICLES:.0e}: \
-                     increase dx (is it in metres?) or shrink the regions",
-                    self.dx
-                ),
-            ));
         }
         match &self.solver {
             SolverSpec::Wcsph(config) => validate_wcsph(config),
