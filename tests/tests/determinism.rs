@@ -44,7 +44,10 @@ fn deterministic_part(summary: &Summary) -> String {
 /// Runs `scene` with each thread count; the final state (as its `Debug` text, which prints
 /// every field of every particle with the shortest exactly round-tripping decimals), the
 /// summary and the output files.
-fn run_with_threads(scene: &Scene, label: &str) -> Vec<(String, String, BTreeMap<PathBuf, Vec<u8>>)> {
+fn run_with_threads(
+    scene: &Scene,
+    label: &str,
+) -> Vec<(String, String, BTreeMap<PathBuf, Vec<u8>>)> {
     let root = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("determinism-{label}"));
     let _ = std::fs::remove_dir_all(&root);
     THREADS
@@ -70,7 +73,11 @@ fn run_with_threads(scene: &Scene, label: &str) -> Vec<(String, String, BTreeMap
 
 fn assert_identical(results: &[(String, String, BTreeMap<PathBuf, Vec<u8>>)]) {
     let (particles, summary, outputs) = &results[0];
-    assert!(outputs.len() >= 3, "too few output files: {:?}", outputs.keys());
+    assert!(
+        outputs.len() >= 3,
+        "too few output files: {:?}",
+        outputs.keys()
+    );
     for (k, (other_particles, other_summary, other_outputs)) in results.iter().enumerate().skip(1) {
         let threads = THREADS[k];
         assert!(

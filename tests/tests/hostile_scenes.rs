@@ -42,6 +42,7 @@ Scene(
 /// (name, scene, expected fragment of the error). The scene is either `old => new`, one
 /// replacement in [`BASE`] (`old` must occur there), `old => new ;; old2 => new2` for two, or
 /// a whole file when it has no `=>`.
+#[rustfmt::skip]
 const CASES: &[(&str, &str, &str)] = &[
     // The file itself.
     ("empty file", "", "the file is empty"),
@@ -109,7 +110,7 @@ const CASES: &[(&str, &str, &str)] = &[
     ("tank wall too thin", "layers: 3 => layers: 1", "`walls[0].layers`: must lie in [3, 10]"),
     ("tank wall too thick", "layers: 3 => layers: 40", "`walls[0].layers`: must lie in [3, 10]"),
     ("inverted tank", "max: [2.0, 2.0] => max: [2.0, -2.0]", "`walls[0].max`: must exceed min on axis 1"),
-    ("tank of a trillion cells", "max: [2.0, 2.0] => max: [2.0e5, 2.0e5]", "`walls[0]`: the tank spans"),
+    ("tank of ten billion cells", "max: [2.0, 2.0] => max: [1.0e4, 1.0e4]", "`walls[0]`: the tank spans"),
     ("polyline of one point", "walls: [Tank(min: [0.0, 0.0], max: [2.0, 2.0], layers: 3, open_top: true)], => walls: [Polyline(points: [(0.0, 0.0)])],", "`walls[0].points`: needs at least 2 points, got 1"),
     ("polyline repeating a point", "walls: [Tank(min: [0.0, 0.0], max: [2.0, 2.0], layers: 3, open_top: true)], => walls: [Polyline(points: [(0.0, 0.0), (0.0, 0.0), (1.0, 0.0)])],", "`walls[0].points[1]`: repeats the point before it"),
     ("domain inverted", "walls: [ => domain: (min: [0.0, 0.0], max: [-1.0, 3.0]), walls: [", "`domain.max`: must exceed min on axis 0"),
@@ -221,8 +222,16 @@ fn output_folders_that_cannot_be_written_are_refused_before_any_work() {
     std::fs::write(&file, "not a folder").unwrap();
     let mut failures = Vec::new();
     let mut cases = vec![
-        ("folder inside a file", file.join("out"), "is a file, not a folder"),
-        ("folder is a file", file.clone(), "exists and is not a folder"),
+        (
+            "folder inside a file",
+            file.join("out"),
+            "is a file, not a folder",
+        ),
+        (
+            "folder is a file",
+            file.clone(),
+            "exists and is not a folder",
+        ),
     ];
     // Permissions do not stop root; run this case only where they apply.
     let locked = folder.join("locked");
@@ -232,7 +241,11 @@ fn output_folders_that_cannot_be_written_are_refused_before_any_work() {
     if root {
         eprintln!("running as root: the read-only folder case is skipped");
     } else {
-        cases.push(("read-only folder", locked.join("out"), "cannot be created in"));
+        cases.push((
+            "read-only folder",
+            locked.join("out"),
+            "cannot be created in",
+        ));
     }
     for (name, out, expected) in cases {
         let outcome = catch_unwind(AssertUnwindSafe(|| parse_and_run(BASE, &out)));

@@ -112,7 +112,10 @@ fn check_xml(text: &str) -> Result<(), String> {
     }
     while let Some(start) = rest.find('<') {
         if open.is_empty() && !rest[..start].trim().is_empty() {
-            return Err(format!("text outside the root element: {:?}", &rest[..start]));
+            return Err(format!(
+                "text outside the root element: {:?}",
+                &rest[..start]
+            ));
         }
         let tag_end = rest[start..].find('>').ok_or("unterminated tag")? + start;
         let tag = &rest[start + 1..tag_end];
@@ -188,7 +191,10 @@ fn check_output(out: &Path, name: &str) -> Result<usize, String> {
         for (i, line) in lines.enumerate() {
             let values: Vec<&str> = line.split(',').collect();
             if values.len() != columns || values.iter().any(|v| v.parse::<f64>().is_err()) {
-                return Err(format!("diagnostics.csv row {} is incomplete: {line}", i + 1));
+                return Err(format!(
+                    "diagnostics.csv row {} is incomplete: {line}",
+                    i + 1
+                ));
             }
         }
     }
@@ -221,7 +227,10 @@ fn sigkill_at_any_moment_leaves_complete_frames_and_a_valid_pvd() {
     }
     println!("frames listed at each kill: {listed:?}");
     // The kills must have hit a run in progress, not only its start-up.
-    assert!(listed.iter().filter(|&&frames| frames >= 3).count() >= 3, "{listed:?}");
+    assert!(
+        listed.iter().filter(|&&frames| frames >= 3).count() >= 3,
+        "{listed:?}"
+    );
     std::fs::remove_dir_all(folder).unwrap();
 }
 
@@ -236,8 +245,8 @@ fn a_write_error_stops_the_run_with_a_message_and_leaves_complete_files() {
     // 64 KiB per file; SIGXFSZ ignored (kept across exec), so writes fail with EFBIG.
     let script = "trap '' XFSZ; ulimit -f 64; exec \"$0\" \"$@\"";
     let output = child_command(&["bash", "-c", script], &out, "small")
-    .output()
-    .unwrap();
+        .output()
+        .unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(RUN_FAILED), "{stderr}");
     let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();

@@ -297,9 +297,7 @@ pub struct Report {
 /// Runs `scene`; with an output folder, also writes `front.csv`, `front.png` and `height.png`.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     // Before `Column::of`, which indexes the scene's coordinates by its dimension.
-    scene
-        .validate()
-        .map_err(|error| Error::Run(error.into()))?;
+    scene.validate().map_err(|error| Error::Run(error.into()))?;
     let column = Column::of(scene)?;
     let mut tracker = FrontTracker::new(column);
     let summary = geosph_runner::run(scene, options, &mut tracker)?;

@@ -13,12 +13,11 @@ const MAX_EXCERPT: usize = 40;
 pub(crate) fn scene(text: &str) -> Result<Scene, SceneError> {
     if text.trim().is_empty() {
         return Err(SceneError::Parse(
-            "the file is empty; a scene is `Scene(name: ..., dimension: ..., dx: ..., ...)`"
-                .into(),
+            "the file is empty; a scene is `Scene(name: ..., dimension: ..., dx: ..., ...)`".into(),
         ));
     }
-    let options = ron::Options::default()
-        .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let mut deserializer = ron::Deserializer::from_str_with_options(text, &options)
         .map_err(|error| spanned(text, &error, ""))?;
     let mut track = serde_path_to_error::Track::new();
@@ -85,7 +84,9 @@ fn excerpt(text: &str, span: &ron::error::Span) -> Option<String> {
 
 /// The byte offset of a ron line:column (1-based, columns counting characters) in `text`.
 fn offset(text: &str, position: &ron::error::Position) -> Option<usize> {
-    let line = text.split_inclusive('\n').nth(position.line.checked_sub(1)?)?;
+    let line = text
+        .split_inclusive('\n')
+        .nth(position.line.checked_sub(1)?)?;
     let before: usize = text
         .split_inclusive('\n')
         .take(position.line - 1)

@@ -264,7 +264,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     .iter()
                     .map(|&(x, y)| Vector::<2>::new(x, y))
                     .collect();
-                if let Some((i, behind)) = behind_polyline(&fluid.position, &points, *flow_side, *layers as Real * dx) {
+                if let Some((i, behind)) =
+                    behind_polyline(&fluid.position, &points, *flow_side, *layers as Real * dx)
+                {
                     return Err(SceneError::Field {
                         field: format!("walls[{index}]"),
                         message: format!(

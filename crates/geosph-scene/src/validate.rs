@@ -170,7 +170,11 @@ impl Scene {
         positive("output.sample_interval", self.output.sample_interval)?;
         for (field, interval, most) in [
             ("output.interval", self.output.interval, MAX_FRAMES),
-            ("output.sample_interval", self.output.sample_interval, MAX_SAMPLES),
+            (
+                "output.sample_interval",
+                self.output.sample_interval,
+                MAX_SAMPLES,
+            ),
         ] {
             if self.end_time / interval > most {
                 return Err(fail(
