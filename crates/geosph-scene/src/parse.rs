@@ -109,9 +109,14 @@ fn last_field(text: &str, end: usize) -> Option<&str> {
         let bytes = code.as_bytes();
         for (colon, _) in code.match_indices(':') {
             let name_end = code[..colon].trim_end().len();
+            // Walk back over ASCII identifier characters only, so that the slice below
+            // always starts on a character boundary (the fuzzer found one that did not).
             let name_start = code[..name_end]
-                .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-                .map_or(0, |at| at + 1);
+                .char_indices()
+                .rev()
+                .take_while(|(_, c)| c.is_ascii_alphanumeric() || *c == '_')
+                .last()
+                .map_or(name_end, |(at, _)| at);
             if name_start < name_end && !bytes[name_start].is_ascii_digit() {
                 found = Some(&code[name_start..name_end]);
             }
@@ -123,4 +128,27 @@ fn last_field(text: &str, end: usize) -> Option<&str> {
 /// `text` with line breaks replaced by spaces.
 fn one_line(text: &str) -> String {
     text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn last_field_skips_comments_and_copes_with_multibyte_text() {
+        let whole = |text: &'static str| last_field(text, text.len());
+        assert_eq!(whole("a: 1,\n b: 2 // c: 3\n"), Some("b"));
+        assert_eq!(whole("x: 1, \u{4b08}layers: 2"), Some("layers"));
+        assert_eq!(whole("\u{4b08}: 1"), None);
+        assert_eq!(whole("9a: 1"), None);
+    }
+
+    /// The input on which the fuzzer found the panic (a slice inside a multi-byte character).
+    #[test]
+    fn fuzz_finding_multibyte_before_colon_is_an_error_not_a_panic() {
+        let text = include_str!(
+            "../../../fuzz/regressions/crash-86ca34701ee8c9c791656980319ceda07d751e3f"
+        );
+        assert!(scene(text).is_err());
+    }
 }
