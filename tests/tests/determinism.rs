@@ -15,6 +15,9 @@ use geosph_tests::FinalState;
 
 const THREADS: [usize; 3] = [1, 2, 4];
 
+/// What one run leaves: the final particles and the summary as text, and the output files.
+type Outcome = (String, String, BTreeMap<PathBuf, Vec<u8>>);
+
 /// Every file under `dir` (relative path → bytes).
 fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     let mut found = BTreeMap::new();
@@ -44,10 +47,7 @@ fn deterministic_part(summary: &Summary) -> String {
 /// Runs `scene` with each thread count; the final state (as its `Debug` text, which prints
 /// every field of every particle with the shortest exactly round-tripping decimals), the
 /// summary and the output files.
-fn run_with_threads(
-    scene: &Scene,
-    label: &str,
-) -> Vec<(String, String, BTreeMap<PathBuf, Vec<u8>>)> {
+fn run_with_threads(scene: &Scene, label: &str) -> Vec<Outcome> {
     let root = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("determinism-{label}"));
     let _ = std::fs::remove_dir_all(&root);
     THREADS
@@ -71,7 +71,7 @@ fn run_with_threads(
         .collect()
 }
 
-fn assert_identical(results: &[(String, String, BTreeMap<PathBuf, Vec<u8>>)]) {
+fn assert_identical(results: &[Outcome]) {
     let (particles, summary, outputs) = &results[0];
     assert!(
         outputs.len() >= 3,
