@@ -1,6 +1,6 @@
 //! Runs a geosph scene.
 //!
-//! [`run`] validates the scene, builds particles and the solver it declares (and nothing it
+//! [`run`](fn@run) validates the scene, builds particles and the solver it declares (and nothing it
 //! does not declare), steps the solver to the end time with events at the output and sample
 //! times, writes a VTU frame per output interval plus a `.pvd` series that ParaView opens, a
 //! `diagnostics.csv` time series, shows a progress bar with ETA, and returns a [`Summary`].

@@ -6,7 +6,7 @@
 //! [`setup::build`] turns a valid scene into particles, walls and solver inputs.
 //!
 //! Modules:
-//! - [`format`]: the serde types of the scene file.
+//! - [`format`](mod@format): the serde types of the scene file.
 //! - [`validate`]: range checks with errors naming the field ([`SceneError`]).
 //! - [`setup`]: particles, walls, domain, smoothing length and sound speed of a scene.
 //!
