@@ -18,7 +18,14 @@ use geosph_tests::FinalState;
 
 use rand::{Rng, SeedableRng, rngs::StdRng};
 
-fn hydrostatic_scene(dimension: usize, dx: Real, depth: Real, end_time: Real) -> Scene {
+/// Still water of `depth` in a tank, solved by `solver` (RON, e.g. `Wcsph(())`).
+pub(crate) fn hydrostatic_scene(
+    dimension: usize,
+    dx: Real,
+    depth: Real,
+    end_time: Real,
+    solver: &str,
+) -> Scene {
     let (min, max, tank) = if dimension == 2 {
         (
             "[0.0, 0.0]".to_owned(),
@@ -42,7 +49,7 @@ fn hydrostatic_scene(dimension: usize, dx: Real, depth: Real, end_time: Real) ->
             output: (interval: {end_time}, sample_interval: {end_time}, vtk: false),
             fluid: (blocks: [Box(min: {min}, max: {max})]),
             walls: [Tank(min: {zero}, max: {tank})],
-            solver: Wcsph(()))"
+            solver: {solver})"
     ))
     .unwrap()
 }
@@ -73,13 +80,13 @@ fn layer_pressures<const D: usize>(
 
 /// Accumulates layer-averaged pressures over the samples after `from`.
 #[derive(Default)]
-struct LayerAverage {
-    from: Real,
-    dx: Real,
-    depth: Real,
-    samples: usize,
-    layers: Vec<(Real, Real)>,
-    last: FinalState,
+pub(crate) struct LayerAverage {
+    pub from: Real,
+    pub dx: Real,
+    pub depth: Real,
+    pub samples: usize,
+    pub layers: Vec<(Real, Real)>,
+    pub last: FinalState,
 }
 
 impl LayerAverage {
@@ -98,7 +105,7 @@ impl LayerAverage {
         self.samples += 1;
     }
 
-    fn mean(&self) -> Vec<(Real, Real)> {
+    pub fn mean(&self) -> Vec<(Real, Real)> {
         let n = self.samples as Real;
         self.layers.iter().map(|&(y, p)| (y / n, p / n)).collect()
     }
@@ -124,7 +131,7 @@ impl geosph_runner::Observer<3> for LayerAverage {
     }
 }
 
-fn check_hydrostatic<const D: usize>(
+pub(crate) fn check_hydrostatic<const D: usize>(
     fluid: &Particles<D>,
     layers: &[(Real, Real)],
     initial: usize,
@@ -169,7 +176,7 @@ fn run_hydrostatic(
     depth: Real,
     end_time: Real,
 ) -> (LayerAverage, usize) {
-    let mut scene = hydrostatic_scene(dimension, dx, depth, end_time);
+    let mut scene = hydrostatic_scene(dimension, dx, depth, end_time, "Wcsph(())");
     scene.output.sample_interval = 0.01;
     let mut average = LayerAverage {
         from: 0.5 * end_time,
@@ -222,7 +229,9 @@ fn periodic_box_conserves_linear_momentum() {
         .map(|(v, m)| v.norm() * m)
         .sum();
     let initial = momentum(&fluid);
-    let geosph_scene::SolverSpec::Wcsph(config) = &scene.solver;
+    let geosph_scene::SolverSpec::Wcsph(config) = &scene.solver else {
+        unreachable!("the scene names WCSPH")
+    };
     let mut solver = build_wcsph(config, solver_inputs, &mut fluid).unwrap();
     let mut time = 0.0;
     for _ in 0..1000 {

@@ -28,7 +28,7 @@ struct Cli {
     #[arg(long)]
     threads: Option<usize>,
     /// Solver (overrides the scene; its parameters take their defaults).
-    #[arg(long, value_parser = ["wcsph"])]
+    #[arg(long, value_parser = SolverSpec::NAMES)]
     solver: Option<String>,
     /// Do not write VTU frames.
     #[arg(long)]
@@ -54,7 +54,7 @@ fn load(cli: &Cli) -> Result<Scene, String> {
     if let Some(solver) = &cli.solver
         && solver != scene.solver.name()
     {
-        scene.solver = SolverSpec::Wcsph(Default::default());
+        scene.solver = SolverSpec::from_name(solver).expect("clap checked the name");
     }
     Ok(scene)
 }

@@ -15,8 +15,10 @@ use crate::wcsph::WcsphSystem;
 pub struct StepReport {
     /// The time step taken.
     pub dt: Real,
-    /// Pressure iterations (1 for explicit solvers).
+    /// Pressure iterations (1 for explicit solvers; the constant-density solve for DFSPH).
     pub iterations: usize,
+    /// Iterations of DFSPH's divergence-free solve (0 for the other solvers).
+    pub divergence_iterations: usize,
     /// Mean relative density error |ρ − ρ₀|/ρ₀ over the fluid.
     pub density_error_mean: Real,
     /// Largest relative density error.
@@ -175,6 +177,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
         Ok(StepReport {
             dt,
             iterations: 1,
+            divergence_iterations: 0,
             density_error_mean: mean,
             density_error_max: max,
         })
