@@ -30,6 +30,10 @@ struct Cli {
     /// Solver (overrides the scene; its parameters take their defaults).
     #[arg(long, value_parser = SolverSpec::NAMES)]
     solver: Option<String>,
+    /// Target average compression of the incompressible solvers, e.g. 0.001 for 0.1 %
+    /// (overrides the scene).
+    #[arg(long)]
+    target_error: Option<f64>,
     /// Do not write VTU frames.
     #[arg(long)]
     no_vtk: bool,
@@ -55,6 +59,16 @@ fn load(cli: &Cli) -> Result<Scene, String> {
         && solver != scene.solver.name()
     {
         scene.solver = SolverSpec::from_name(solver).expect("clap checked the name");
+    }
+    if let Some(target) = cli.target_error {
+        match &mut scene.solver {
+            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
+                config.target_density_error = target;
+            }
+            SolverSpec::Wcsph(_) => {
+                return Err("--target-error applies to pcisph, iisph and dfsph, not wcsph".into());
+            }
+        }
     }
     Ok(scene)
 }

@@ -139,7 +139,7 @@ pub struct IncompressibleConfig {
     /// Courant number λ of the velocity CFL: no particle moves more than λ dx per step
     /// (default 0.4).
     pub cfl: Real,
-    /// Upper bound on the time step in s (default none).
+    /// Upper bound on the time step in s (default 0.005 s; `None` for no bound).
     pub max_time_step: Option<Real>,
     /// Viscous term (default artificial, α = 0.02, with the velocity scale 10 √(2 g H) that
     /// WCSPH uses as its sound speed, so both dissipate alike).

@@ -191,7 +191,6 @@ fn run_in<const D: usize, O: Observer<D>>(
     observer: &mut O,
 ) -> Result<Summary, RunError> {
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
-    let rest_density = solver_inputs.rest_density;
     let wall_particles = solver_inputs.walls.len();
     let built = match &scene.solver {
         SolverSpec::Wcsph(config) => build_wcsph(config, solver_inputs, &mut fluid),
@@ -262,10 +261,11 @@ fn run_in<const D: usize, O: Observer<D>>(
     let mut time = 0.0;
     let mut steps = 0;
     let mut report = geosph_fluid::StepReport::default();
-    let (initial_mean, initial_max) =
-        geosph_fluid::solver::density_errors(&fluid.density, rest_density);
-    report.density_error_mean = initial_mean;
-    report.density_error_max = initial_max;
+    for &rho in &fluid.density {
+        let error = solver.density_error(rho);
+        report.density_error_mean += error / fluid.len().max(1) as Real;
+        report.density_error_max = report.density_error_max.max(error);
+    }
     sample(0.0, 0, &report, &fluid, &mut output)?;
     if let Some(output) = &mut output {
         output.write_frame(0.0, &fluid, solver.walls())?;
@@ -292,7 +292,7 @@ fn run_in<const D: usize, O: Observer<D>>(
             })?;
         time += report.dt;
         steps += 1;
-        if let Some(diagnosis) = health::check(&report, &fluid, rest_density) {
+        if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref()) {
             bar.finish_and_clear();
             if let Some(output) = &mut output {
                 output.flush()?;

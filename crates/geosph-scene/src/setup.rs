@@ -160,10 +160,15 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     let mass = rest_density * dx.powi(D as i32);
     let mut fluid = Particles::at_rest(position, mass, rest_density);
     if fluid_spec.hydrostatic {
-        for (i, rho) in fluid.density.iter_mut().enumerate() {
+        // The pressure is the initial guess of the incompressible solvers; WCSPH recomputes
+        // it from the density.
+        let mut pressure = vec![0.0; fluid.len()];
+        for (i, (rho, p)) in fluid.density.iter_mut().zip(&mut pressure).enumerate() {
             let depth = (surface[i] - fluid.position[i][up]).max(0.0);
-            *rho = eos.density(rest_density * g * depth);
+            *p = rest_density * g * depth;
+            *rho = eos.density(*p);
         }
+        fluid.pressure = Some(pressure);
     }
 
     let mut walls = WallParticles::default();

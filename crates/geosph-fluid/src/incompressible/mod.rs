@@ -47,7 +47,8 @@ pub struct PressureSolveSettings {
     pub max_iterations: usize,
     /// Courant number λ: no particle moves more than λ dx in a step (default 0.4).
     pub cfl: Real,
-    /// Upper bound on the step in s (default none).
+    /// Upper bound on the step in s (default 0.005 s, the default of SPlisHSPlasH; see
+    /// `docs/incompressible.md` for why a bound is needed).
     pub max_time_step: Option<Real>,
 }
 
@@ -58,7 +59,7 @@ impl Default for PressureSolveSettings {
             min_iterations: 2,
             max_iterations: 100,
             cfl: 0.4,
-            max_time_step: None,
+            max_time_step: Some(0.005),
         }
     }
 }
@@ -278,6 +279,14 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> FluidS
 
     fn sound_speed(&self) -> Real {
         0.0
+    }
+
+    fn density_error(&self, density: Real) -> Real {
+        (density / self.system.rest_density - 1.0).max(0.0)
+    }
+
+    fn blow_up_advice(&self) -> &'static str {
+        "the pressure solve did not hold the density: lower `cfl`, set `max_time_step`, or raise `max_iterations`"
     }
 }
 

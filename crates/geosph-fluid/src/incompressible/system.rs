@@ -19,7 +19,8 @@ use crate::viscosity::{Pair, Viscosity};
 /// - [`WallPressure::Mirrored`]: p_b = p_i (Band et al. 2018, "pressure mirroring");
 /// - [`WallPressure::Hydrostatic`]: p_b = p_i + ρ_i (g − a_b)·(x_b − x_i), the mirrored
 ///   pressure plus the hydrostatic head between the two particles, the pairwise form of the
-///   extrapolation of Adami, Hu & Adams (2012, eq. 27).
+///   extrapolation of Adami, Hu & Adams (2012, eq. 27), limited so that p_b ≥ 0 with the
+///   previous step's p_i: a wall above the free surface must not pull the fluid up it.
 ///
 /// Both give the pair term m_b (p_i/ρ_i² + p_b/ρ_i²) ∇_i W_ib. The head part does not depend on
 /// the unknown pressures, so it enters the known (non-pressure) acceleration and the pressure
@@ -235,7 +236,9 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     }
 
     /// The known acceleration: gravity, the viscous term, and with
-    /// [`WallPressure::Hydrostatic`] the wall head −Σ_b m_b ((g − a_b)·(x_b − x_i)/ρ_i) ∇_i W_ib.
+    /// [`WallPressure::Hydrostatic`] the wall head −Σ_b m_b (h_b/ρ_i) ∇_i W_ib,
+    /// h_b = max((g − a_b)·(x_b − x_i), −p_i/ρ_i) with p_i the pressure in `fluid` (the last
+    /// step's).
     pub fn non_pressure_acceleration(&self, fluid: &Particles<D>, acceleration: &mut [Vector<D>]) {
         let (kernel, domain, viscosity, gravity) =
             (self.kernel, &self.domain, self.viscosity, self.gravity);
@@ -249,8 +252,10 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             velocity,
             mass,
             density,
+            pressure,
             ..
         } = fluid;
+        let previous_pressure = pressure.as_deref().expect("pressure is enabled");
         acceleration
             .par_iter_mut()
             .enumerate()
@@ -299,9 +304,11 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                         mass_j: mass_b,
                     });
                     if head {
-                        // x_b − x_i = −r_ib.
-                        let head_b = -(gravity - walls.acceleration[b]).dot(&r_ib) / rho_i;
-                        sum -= grad * (mass_b * head_b);
+                        // h_b = (g − a_b)·(x_b − x_i) with x_b − x_i = −r_ib, limited so
+                        // that p_b = p_i + ρ_i h_b stays ≥ 0 for the last step's p_i.
+                        let h_b = (-(gravity - walls.acceleration[b]).dot(&r_ib))
+                            .max(-previous_pressure[i] / rho_i);
+                        sum -= grad * (mass_b * h_b / rho_i);
                     }
                 }
                 *a_i = sum;
