@@ -3,6 +3,7 @@ mod corrections;
 mod dam_break;
 mod determinism;
 mod hostile_scenes;
+mod incompressible;
 mod kernels;
 mod neighbours;
 mod output_integrity;

@@ -28,8 +28,12 @@ struct Cli {
     #[arg(long)]
     threads: Option<usize>,
     /// Solver (overrides the scene; its parameters take their defaults).
-    #[arg(long, value_parser = ["wcsph"])]
+    #[arg(long, value_parser = SolverSpec::NAMES)]
     solver: Option<String>,
+    /// Target average compression of the incompressible solvers, e.g. 0.001 for 0.1 %
+    /// (overrides the scene).
+    #[arg(long)]
+    target_error: Option<f64>,
     /// Do not write VTU frames.
     #[arg(long)]
     no_vtk: bool,
@@ -57,7 +61,17 @@ fn load(cli: &Cli) -> Result<Scene, String> {
     if let Some(solver) = &cli.solver
         && solver != scene.solver.name()
     {
-        scene.solver = SolverSpec::Wcsph(Default::default());
+        scene.solver = SolverSpec::from_name(solver).expect("clap checked the name");
+    }
+    if let Some(target) = cli.target_error {
+        match &mut scene.solver {
+            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
+                config.target_density_error = target;
+            }
+            SolverSpec::Wcsph(_) => {
+                return Err("--target-error applies to pcisph, iisph and dfsph, not wcsph".into());
+            }
+        }
     }
     // Everything a user can get wrong is reported here, before any output or banner.
     scene.validate().map_err(|error| error.to_string())?;

@@ -17,7 +17,7 @@ pub struct RunOutput {
 }
 
 /// Columns of `diagnostics.csv` that every run writes, before the observer's.
-pub const DIAGNOSTIC_COLUMNS: [&str; 7] = [
+pub const DIAGNOSTIC_COLUMNS: [&str; 9] = [
     "time",
     "step",
     "dt",
@@ -25,6 +25,8 @@ pub const DIAGNOSTIC_COLUMNS: [&str; 7] = [
     "density_error_mean",
     "density_error_max",
     "max_speed",
+    "iterations",
+    "divergence_iterations",
 ];
 
 /// Checks, without creating anything, that the folder `dir` exists and can be written, or that

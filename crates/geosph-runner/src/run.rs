@@ -4,7 +4,9 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::{FluidSolver, SolverError, build_wcsph};
+use geosph_fluid::{
+    FluidSolver, IncompressibleMethod, SolverError, build_incompressible, build_wcsph,
+};
 use geosph_scene::{Scene, SceneError, SolverSpec};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -50,6 +52,10 @@ pub struct Summary {
     pub max_density_error: Real,
     /// Mean relative density error over all steps.
     pub mean_density_error: Real,
+    /// Mean pressure iterations per step (1 for WCSPH).
+    pub mean_iterations: Real,
+    /// Mean divergence-solve iterations per step (DFSPH; 0 otherwise).
+    pub mean_divergence_iterations: Real,
     /// Bytes per fluid particle held by its fields.
     pub bytes_per_particle: usize,
     /// VTU frames written.
@@ -81,11 +87,16 @@ impl std::fmt::Display for Summary {
             self.wall_time,
             self.particle_steps_per_second * 1e-6
         )?;
-        write!(
+        writeln!(
             f,
             "density error      mean {:.3} %, max {:.3} %",
             100.0 * self.mean_density_error,
             100.0 * self.max_density_error
+        )?;
+        write!(
+            f,
+            "iterations         {:.1} per step (divergence solve {:.1})",
+            self.mean_iterations, self.mean_divergence_iterations
         )
     }
 }
@@ -194,15 +205,33 @@ fn run_in<const D: usize, O: Observer<D>>(
     observer: &mut O,
 ) -> Result<Summary, RunError> {
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
-    let rest_density = solver_inputs.rest_density;
     let wall_particles = solver_inputs.walls.len();
-    let SolverSpec::Wcsph(config) = &scene.solver;
-    let mut solver: Box<dyn FluidSolver<D>> = build_wcsph(config, solver_inputs, &mut fluid)
-        .map_err(|source| RunError::Solver {
-            time: 0.0,
-            step: 0,
-            source: source.into(),
-        })?;
+    let built = match &scene.solver {
+        SolverSpec::Wcsph(config) => build_wcsph(config, solver_inputs, &mut fluid),
+        SolverSpec::Pcisph(config) => build_incompressible(
+            IncompressibleMethod::Pcisph,
+            config,
+            solver_inputs,
+            &mut fluid,
+        ),
+        SolverSpec::Iisph(config) => build_incompressible(
+            IncompressibleMethod::Iisph,
+            config,
+            solver_inputs,
+            &mut fluid,
+        ),
+        SolverSpec::Dfsph(config) => build_incompressible(
+            IncompressibleMethod::Dfsph,
+            config,
+            solver_inputs,
+            &mut fluid,
+        ),
+    };
+    let mut solver: Box<dyn FluidSolver<D>> = built.map_err(|source| RunError::Solver {
+        time: 0.0,
+        step: 0,
+        source: source.into(),
+    })?;
 
     let vtk = options.vtk.unwrap_or(scene.output.vtk);
     let mut output = match &options.out_dir {
@@ -230,6 +259,8 @@ fn run_in<const D: usize, O: Observer<D>>(
             report.density_error_mean,
             report.density_error_max,
             geosph_fluid::solver::max_speed(&fluid.velocity),
+            report.iterations as Real,
+            report.divergence_iterations as Real,
         ]);
         observer.sample(time, fluid, &mut row);
         if let Some(output) = output {
@@ -244,10 +275,11 @@ fn run_in<const D: usize, O: Observer<D>>(
     let mut time = 0.0;
     let mut steps = 0;
     let mut report = geosph_fluid::StepReport::default();
-    let (initial_mean, initial_max) =
-        geosph_fluid::solver::density_errors(&fluid.density, rest_density);
-    report.density_error_mean = initial_mean;
-    report.density_error_max = initial_max;
+    for &rho in &fluid.density {
+        let error = solver.density_error(rho);
+        report.density_error_mean += error / fluid.len().max(1) as Real;
+        report.density_error_max = report.density_error_max.max(error);
+    }
     sample(0.0, 0, &report, &fluid, &mut output)?;
     if let Some(output) = &mut output {
         output.write_frame(0.0, &fluid, solver.walls())?;
@@ -259,6 +291,7 @@ fn run_in<const D: usize, O: Observer<D>>(
     let mut next_sample = sample_interval;
     let mut max_density_error: Real = 0.0;
     let mut density_error_sum = 0.0;
+    let (mut iteration_sum, mut divergence_iteration_sum) = (0, 0);
     let mut last_draw = Instant::now();
     // Times within this tolerance of an event count as reaching it.
     let tolerance = 1e-9 * end_time;
@@ -273,7 +306,7 @@ fn run_in<const D: usize, O: Observer<D>>(
             })?;
         time += report.dt;
         steps += 1;
-        if let Some(diagnosis) = health::check(&report, &fluid, rest_density) {
+        if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref()) {
             bar.finish_and_clear();
             if let Some(output) = &mut output {
                 output.flush()?;
@@ -286,6 +319,8 @@ fn run_in<const D: usize, O: Observer<D>>(
         }
         max_density_error = max_density_error.max(report.density_error_max);
         density_error_sum += report.density_error_mean;
+        iteration_sum += report.iterations;
+        divergence_iteration_sum += report.divergence_iterations;
         if time >= next_sample - tolerance {
             sample(time, steps, &report, &fluid, &mut output)?;
             samples += 1.0;
@@ -326,6 +361,8 @@ fn run_in<const D: usize, O: Observer<D>>(
         particle_steps_per_second: (fluid.len() * steps) as Real / wall_time,
         max_density_error,
         mean_density_error: density_error_sum / steps.max(1) as Real,
+        mean_iterations: iteration_sum as Real / steps.max(1) as Real,
+        mean_divergence_iterations: divergence_iteration_sum as Real / steps.max(1) as Real,
         bytes_per_particle: fluid.bytes_per_particle(),
         frames,
     })

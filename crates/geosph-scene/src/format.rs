@@ -1,7 +1,7 @@
 //! The scene file format (RON, read with serde).
 
 use geosph_core::Real;
-use geosph_fluid::WcsphConfig;
+use geosph_fluid::{IncompressibleConfig, WcsphConfig};
 use serde::{Deserialize, Serialize};
 
 use crate::validate::SceneError;
@@ -169,6 +169,12 @@ fn default_layers() -> usize {
 pub enum SolverSpec {
     /// Weakly compressible SPH.
     Wcsph(#[serde(default)] WcsphConfig),
+    /// Predictive–corrective incompressible SPH (Solenthaler & Pajarola 2009).
+    Pcisph(#[serde(default)] IncompressibleConfig),
+    /// Implicit incompressible SPH (Ihmsen et al. 2014).
+    Iisph(#[serde(default)] IncompressibleConfig),
+    /// Divergence-free SPH (Bender & Koschier 2017).
+    Dfsph(#[serde(default)] IncompressibleConfig),
 }
 
 impl SolverSpec {
@@ -176,7 +182,24 @@ impl SolverSpec {
     pub fn name(&self) -> &'static str {
         match self {
             SolverSpec::Wcsph(_) => "wcsph",
+            SolverSpec::Pcisph(_) => "pcisph",
+            SolverSpec::Iisph(_) => "iisph",
+            SolverSpec::Dfsph(_) => "dfsph",
         }
+    }
+
+    /// The names [`SolverSpec::from_name`] accepts.
+    pub const NAMES: [&'static str; 4] = ["wcsph", "pcisph", "iisph", "dfsph"];
+
+    /// The solver `name` with its default parameters, or `None` for an unknown name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name {
+            "wcsph" => SolverSpec::Wcsph(Default::default()),
+            "pcisph" => SolverSpec::Pcisph(Default::default()),
+            "iisph" => SolverSpec::Iisph(Default::default()),
+            "dfsph" => SolverSpec::Dfsph(Default::default()),
+            _ => return None,
+        })
     }
 }
 

@@ -30,6 +30,8 @@ pub struct Setup<const D: usize> {
     pub gravity: Vector<D>,
     /// Height H of the fluid (extent along the last axis).
     pub fluid_height: Real,
+    /// Particle spacing dx.
+    pub spacing: Real,
 }
 
 impl<const D: usize> Setup<D> {
@@ -43,6 +45,7 @@ impl<const D: usize> Setup<D> {
             sound_speed: self.sound_speed,
             gravity: self.gravity,
             walls: self.walls,
+            spacing: self.spacing,
         };
         (self.fluid, solver_inputs)
     }
@@ -198,9 +201,16 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     let top = surface.iter().copied().fold(Real::NEG_INFINITY, Real::max);
     let fluid_height = top - bottom;
 
-    let SolverSpec::Wcsph(config) = &scene.solver;
+    // Incompressible solvers use c₀ only as the velocity scale of artificial viscosity, and
+    // recompute the density by summation; their particles start at ρ₀ with Tait's inverse.
+    let (equation_of_state, given_sound_speed) = match &scene.solver {
+        SolverSpec::Wcsph(config) => (config.equation_of_state, config.sound_speed),
+        SolverSpec::Pcisph(_) | SolverSpec::Iisph(_) | SolverSpec::Dfsph(_) => {
+            (geosph_fluid::EosKind::Tait { gamma: 7.0 }, None)
+        }
+    };
     let g = gravity.norm();
-    let sound_speed = match config.sound_speed {
+    let sound_speed = match given_sound_speed {
         Some(c0) => c0,
         None if g > 0.0 => 10.0 * (2.0 * g * fluid_height).sqrt(),
         None => {
@@ -212,17 +222,22 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     };
     let rest_density = fluid_spec.density;
     let eos = EquationOfState {
-        kind: config.equation_of_state,
+        kind: equation_of_state,
         rest_density,
         sound_speed,
     };
     let mass = rest_density * dx.powi(D as i32);
     let mut fluid = Particles::at_rest(position, mass, rest_density);
     if fluid_spec.hydrostatic {
-        for (i, rho) in fluid.density.iter_mut().enumerate() {
+        // The pressure is the initial guess of the incompressible solvers; WCSPH recomputes
+        // it from the density.
+        let mut pressure = vec![0.0; fluid.len()];
+        for (i, (rho, p)) in fluid.density.iter_mut().zip(&mut pressure).enumerate() {
             let depth = (surface[i] - fluid.position[i][up]).max(0.0);
-            *rho = eos.density(rest_density * g * depth);
+            *p = rest_density * g * depth;
+            *rho = eos.density(*p);
         }
+        fluid.pressure = Some(pressure);
     }
 
     let mut walls = WallParticles::default();
@@ -346,5 +361,6 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         sound_speed,
         gravity,
         fluid_height,
+        spacing: dx,
     })
 }

@@ -2,7 +2,7 @@
 
 use geosph_core::Real;
 use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
-use geosph_fluid::{EosKind, WcsphConfig};
+use geosph_fluid::{EosKind, IncompressibleConfig, WcsphConfig};
 use geosph_kernels::KernelKind;
 
 use crate::format::{FluidSpec, Region, Scene, SolverSpec, WallSpec};
@@ -276,6 +276,9 @@ impl Scene {
         }
         match &self.solver {
             SolverSpec::Wcsph(config) => validate_wcsph(config),
+            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
+                validate_incompressible(config)
+            }
         }
     }
 
@@ -361,16 +364,7 @@ fn validate_wcsph(config: &WcsphConfig) -> Result<(), SceneError> {
             in_range("solver.diffusion.delta", delta, 0.0, 1.0)?
         }
     }
-    match config.viscosity {
-        ViscosityConfig::None => {}
-        ViscosityConfig::Artificial { alpha, beta } => {
-            in_range("solver.viscosity.alpha", alpha, 0.0, 1.0)?;
-            in_range("solver.viscosity.beta", beta, 0.0, 2.0)?;
-        }
-        ViscosityConfig::Laminar {
-            kinematic_viscosity,
-        } => positive("solver.viscosity.kinematic_viscosity", kinematic_viscosity)?,
-    }
+    validate_viscosity(config.viscosity)?;
     in_range("solver.xsph", config.xsph, 0.0, 1.0)?;
     in_range("solver.neighbour_skin", config.neighbour_skin, 0.0, 1.0)?;
     // Explicit schemes are stable up to C ≈ 0.4 on the acoustic limit (Monaghan 1992); 0.5 is
@@ -385,4 +379,49 @@ fn validate_wcsph(config: &WcsphConfig) -> Result<(), SceneError> {
         ));
     }
     Ok(())
+}
+
+fn validate_viscosity(viscosity: ViscosityConfig) -> Result<(), SceneError> {
+    match viscosity {
+        ViscosityConfig::None => Ok(()),
+        ViscosityConfig::Artificial { alpha, beta } => {
+            in_range("solver.viscosity.alpha", alpha, 0.0, 1.0)?;
+            in_range("solver.viscosity.beta", beta, 0.0, 2.0)
+        }
+        ViscosityConfig::Laminar {
+            kinematic_viscosity,
+        } => positive("solver.viscosity.kinematic_viscosity", kinematic_viscosity),
+    }
+}
+
+fn validate_incompressible(config: &IncompressibleConfig) -> Result<(), SceneError> {
+    in_range(
+        "solver.target_density_error",
+        config.target_density_error,
+        1e-6,
+        0.1,
+    )?;
+    in_range(
+        "solver.target_divergence_error",
+        config.target_divergence_error,
+        1e-6,
+        0.1,
+    )?;
+    if config.max_iterations == 0 || config.max_iterations < config.min_iterations {
+        return Err(fail(
+            "solver.max_iterations",
+            format!(
+                "must be at least 1 and at least min_iterations = {}, got {}",
+                config.min_iterations, config.max_iterations
+            ),
+        ));
+    }
+    // A particle must not cross more than one spacing per step, or pairs enter the support
+    // unseen by the pressure solve.
+    in_range("solver.cfl", config.cfl, 1e-3, 1.0)?;
+    if let Some(dt) = config.max_time_step {
+        positive("solver.max_time_step", dt)?;
+    }
+    in_range("solver.relaxation", config.relaxation, 0.05, 1.0)?;
+    validate_viscosity(config.viscosity)
 }

@@ -1,0 +1,107 @@
+//! PCISPH, IISPH and DFSPH against analytic and experimental references.
+//!
+//! - Hydrostatic tank (2D): still water of depth H = 0.4 m in a 0.3 m wide tank, dx = 0.02 m,
+//!   run for 20 s of
+//!   simulated time, the stability horizon the issue sets. With the pressure solved to a target
+//!   average compression of 0.1 %, the layer-averaged pressure over the last 10 s must be
+//!   within 2 % of ρ₀ g (H − y) below the top three layers (5 % for the layer on the bed, as
+//!   for WCSPH), the measured average compression over the run at the target (5 % allowance,
+//!   see the assertion), no particle through a wall, and the mass exact.
+//! - Dam break (coarse, dx = 0.04 m) at the default velocity CFL of 0.4, against Martin &
+//!   Moyce (1952) with the same bounds as the WCSPH case (`dam_break.rs`: front RMS < 0.35,
+//!   every point within 0.5, height RMS < 0.08, never ahead of Ritter's bound), and an
+//!   average compression below 0.2 % at the default 0.1 % target.
+
+use geosph_runner::{RunOptions, run};
+use geosph_scene::Scene;
+
+use crate::wcsph::{LayerAverage, check_hydrostatic};
+
+const SOLVERS: [&str; 3] = ["Pcisph(())", "Iisph(())", "Dfsph(())"];
+
+/// Tank width in m (narrower than the WCSPH case: the pressure solves iterate 20–80 times per
+/// step in still water).
+const WIDTH: f64 = 0.3;
+
+#[test]
+fn hydrostatic_tank_holds_rho_g_depth_for_20_s_with_each_solver() {
+    let (dx, depth, end_time) = (0.02, 0.4, 20.0);
+    for solver in SOLVERS {
+        let scene = Scene::from_ron(&format!(
+            "Scene(name: \"hydrostatic\", dimension: 2, dx: {dx}, end_time: {end_time},
+                output: (interval: {end_time}, sample_interval: 0.1, vtk: false),
+                fluid: (blocks: [Box(min: [0.0, 0.0], max: [{WIDTH}, {depth}])]),
+                walls: [Tank(min: [0.0, 0.0], max: [{WIDTH}, 1.0])],
+                solver: {solver})"
+        ))
+        .unwrap();
+        let mut average = LayerAverage {
+            from: 0.5 * end_time,
+            dx,
+            depth,
+            ..Default::default()
+        };
+        let summary = run(&scene, &RunOptions::default(), &mut average)
+            .unwrap_or_else(|error| panic!("{solver}: {error}"));
+        println!("{summary}");
+        let (_, fluid) = average.last.plane.as_ref().unwrap();
+        check_hydrostatic(
+            fluid,
+            &average.mean(),
+            summary.fluid_particles,
+            dx,
+            depth,
+            1.0,
+        );
+        // The solves stop once the *predicted* mean compression is at most the 0.1 % target;
+        // the compression measured after the move differs from that linear prediction at
+        // second order in Δt, for which we allow 5 %. The maximum is a stability guard.
+        assert!(
+            summary.max_density_error < 0.03 && summary.mean_density_error < 1.05e-3,
+            "{solver}: compression mean {:.3} %, max {:.3} %",
+            100.0 * summary.mean_density_error,
+            100.0 * summary.max_density_error
+        );
+    }
+}
+
+#[test]
+fn dam_break_follows_martin_moyce_with_each_solver() {
+    for solver in SOLVERS {
+        let mut scene = Scene::from_ron(dam_break::DEFAULT_SCENE).unwrap();
+        scene.dx = 0.04;
+        scene.end_time = 1.7;
+        scene.output.vtk = false;
+        scene.solver = Scene::from_ron(&format!(
+            "Scene(name: \"s\", dimension: 2, dx: 1.0, end_time: 1.0,
+                solver: {solver})"
+        ))
+        .unwrap()
+        .solver;
+        let report = dam_break::run(&scene, &RunOptions::default())
+            .unwrap_or_else(|error| panic!("{solver}: {error}"));
+        let validation = report.validation.expect("the column has n² = 2");
+        println!("{solver}\n{}\n{validation}", report.summary);
+        assert!(
+            validation.front_rms < 0.35,
+            "{solver}: front RMS {}",
+            validation.front_rms
+        );
+        assert!(
+            validation.front_max < 0.5,
+            "{solver}: front max {}",
+            validation.front_max
+        );
+        assert!(
+            validation.height_rms < 0.08,
+            "{solver}: height RMS {}",
+            validation.height_rms
+        );
+        assert_eq!(validation.ahead_of_ritter, None, "{solver}");
+        assert!(
+            report.summary.mean_density_error < 0.002,
+            "{solver}: mean compression {}",
+            report.summary.mean_density_error
+        );
+    }
+}
