@@ -15,7 +15,9 @@ use crate::viscosity::Viscosity;
 ///
 /// with the sums over a *prototype* particle with a filled neighbourhood on the initial
 /// lattice, and iterate at least three times until the average error is below the target
-/// (Solenthaler & Pajarola 2009, ACM TOG 28(3):40, eqs. 5–8 and Algorithm 1).
+/// (Solenthaler & Pajarola 2009, ACM TOG 28(3):40, eqs. 5–8 and Algorithm 1). δ is capped per
+/// particle at ρ_i² / (2 Δt² d_i), the IISPH step with ω = ½, where walls make the
+/// particle's diagonal d_i larger than the prototype's.
 ///
 /// The predicted density ρ̃ is evaluated from the predicted velocities with the continuity
 /// equation, ρ̃_i = ρ_i + Δt Σ_j m_j (ṽ_i − ṽ_j)·∇_i W_ij, rather than by a kernel sum at
@@ -65,7 +67,17 @@ impl<const D: usize> PressureMethod<D> for Pcisph {
             min_iterations: settings.min_iterations.max(3),
             ..*settings
         };
-        relaxed_jacobi(system, fluid, dt, &settings, scratch, |_, _| delta)
+        let diagonal = system.diagonal();
+        relaxed_jacobi(system, fluid, dt, &settings, scratch, |i, rho_i| {
+            // Never a larger step than ½ of the particle's own diagonal allows: next to a
+            // wall, whose mirrored pressure doubles its share, d_i exceeds the prototype's
+            // and the global δ would over-relax.
+            if diagonal[i] > 0.0 {
+                delta.min(0.5 * rho_i * rho_i / (dt * dt * diagonal[i]))
+            } else {
+                0.0
+            }
+        })
     }
 }
 
