@@ -124,7 +124,7 @@ impl geosph_runner::Observer<3> for LayerAverage {
     }
 }
 
-pub(crate) fn check_hydrostatic<const D: usize>(
+fn check_hydrostatic<const D: usize>(
     fluid: &Particles<D>,
     layers: &[(Real, Real)],
     initial: usize,

@@ -161,8 +161,8 @@ where
         })?;
     }
     let mut work = || match scene.dimension {
-        2 => run_in::<2, O>(scene, options, observer),
-        _ => run_in::<3, O>(scene, options, observer),
+        2 => run_plane(scene, options, observer),
+        _ => run_space(scene, options, observer),
     };
     match options.threads {
         Some(threads) => rayon::ThreadPoolBuilder::new()
@@ -199,10 +199,29 @@ fn progress_bar(options: &RunOptions, end_time: Real) -> ProgressBar {
     bar
 }
 
-fn run_in<const D: usize, O: Observer<D>>(
+/// A 2D run. Not generic, so that every solver is compiled once, in this crate, rather than
+/// again in each crate that calls [`run`] (Rust monomorphises generics where they are used).
+fn run_plane(
     scene: &Scene,
     options: &RunOptions,
-    observer: &mut O,
+    observer: &mut dyn Observer<2>,
+) -> Result<Summary, RunError> {
+    run_in::<2>(scene, options, observer)
+}
+
+/// A 3D run, see [`run_plane`].
+fn run_space(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut dyn Observer<3>,
+) -> Result<Summary, RunError> {
+    run_in::<3>(scene, options, observer)
+}
+
+fn run_in<const D: usize>(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut dyn Observer<D>,
 ) -> Result<Summary, RunError> {
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
     let wall_particles = solver_inputs.walls.len();
