@@ -18,7 +18,7 @@ fn dam_break(dx: f64) -> (Box<dyn FluidSolver<2>>, geosph_core::Particles<2>, f6
     scene.dx = dx;
     let (mut fluid, solver_inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
     let SolverSpec::Wcsph(config) = &scene.solver else {
-        unreachable!("the dam-break scene is a WCSPH scene")
+        unreachable!("the dam-break scene names WCSPH")
     };
     let mut solver = build_wcsph(config, solver_inputs, &mut fluid).unwrap();
     let mut time = 0.0;

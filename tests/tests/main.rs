@@ -1,8 +1,12 @@
 //! Validation tests of geosph: one test binary, one module per subject.
 mod corrections;
 mod dam_break;
+mod determinism;
+mod hostile_scenes;
+mod incompressible;
 mod kernels;
 mod neighbours;
+mod output_integrity;
 mod soil_element;
 mod soil_sph;
 mod wcsph;

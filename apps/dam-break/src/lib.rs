@@ -177,6 +177,9 @@ pub struct Validation {
     pub height_points: usize,
     /// The first sample (T, Z) ahead of Ritter's bound Z = 1 + 2T, if any.
     pub ahead_of_ritter: Option<(Real, Real)>,
+    /// Z_sim − Z_exp at T = 2 and T = 3, both curves interpolated linearly (`None` outside
+    /// the run or the data).
+    pub front_error_at: [(Real, Option<Real>); 2],
 }
 
 impl std::fmt::Display for Validation {
@@ -212,6 +215,11 @@ impl std::fmt::Display for Validation {
             self.height_max,
             self.height_points,
         )?;
+        for (t, error) in self.front_error_at {
+            if let Some(error) = error {
+                writeln!(f, "front at T = {t:.0}                    ΔZ = {error:+.3}")?;
+            }
+        }
         match self.ahead_of_ritter {
             None => write!(f, "Ritter bound Z ≤ 1 + 2T           respected"),
             Some((t, z)) => write!(
@@ -262,7 +270,14 @@ pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
         .map(|s| s.time * column.height_time_scale())
         .collect();
     let h: Vec<Real> = samples.iter().map(|s| s.height / column.height).collect();
-    let (front_rms, front_max, front_points) = compare(&t_front, &z, &martin_moyce_front());
+    let reference_front = martin_moyce_front();
+    let (front_rms, front_max, front_points) = compare(&t_front, &z, &reference_front);
+    let front_error_at = [2.0, 3.0].map(|t| {
+        let error = interpolate(&t_front, &z, t)
+            .zip(interpolate(&reference_front.x, &reference_front.y, t))
+            .map(|(sim, exp)| sim - exp);
+        (t, error)
+    });
     let (height_rms, height_max, height_points) =
         compare(&t_height, &h, &martin_moyce_column_height());
     // Ritter's bound with a tolerance of one particle spacing for the front's discreteness.
@@ -280,6 +295,7 @@ pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
         height_max,
         height_points,
         ahead_of_ritter,
+        front_error_at,
     }
 }
 
@@ -296,6 +312,8 @@ pub struct Report {
 
 /// Runs `scene`; with an output folder, also writes `front.csv`, `front.png` and `height.png`.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
+    // Before `Column::of`, which indexes the scene's coordinates by its dimension.
+    scene.validate().map_err(|error| Error::Run(error.into()))?;
     let column = Column::of(scene)?;
     let mut tracker = FrontTracker::new(column);
     let summary = geosph_runner::run(scene, options, &mut tracker)?;

@@ -28,8 +28,12 @@ struct Cli {
     #[arg(long)]
     threads: Option<usize>,
     /// Solver (overrides the scene; its parameters take their defaults).
-    #[arg(long, value_parser = ["wcsph"])]
+    #[arg(long, value_parser = SolverSpec::NAMES)]
     solver: Option<String>,
+    /// Target average compression of the incompressible solvers, e.g. 0.001 for 0.1 %
+    /// (overrides the scene).
+    #[arg(long)]
+    target_error: Option<f64>,
     /// Do not write VTU frames.
     #[arg(long)]
     no_vtk: bool,
@@ -44,7 +48,10 @@ fn load(cli: &Cli) -> Result<Scene, String> {
             .map_err(|error| format!("cannot read scene {}: {error}", path.display()))?,
         None => dam_break::DEFAULT_SCENE.to_owned(),
     };
-    let mut scene = Scene::from_ron(&text).map_err(|error| error.to_string())?;
+    let mut scene = Scene::from_ron(&text).map_err(|error| match &cli.scene {
+        Some(path) => format!("{}: {error}", path.display()),
+        None => error.to_string(),
+    })?;
     if let Some(dx) = cli.dx {
         scene.dx = dx;
     }
@@ -54,8 +61,25 @@ fn load(cli: &Cli) -> Result<Scene, String> {
     if let Some(solver) = &cli.solver
         && solver != scene.solver.name()
     {
-        scene.solver = SolverSpec::Wcsph(Default::default());
+        scene.solver = SolverSpec::from_name(solver).expect("clap checked the name");
     }
+    if let Some(target) = cli.target_error {
+        match &mut scene.solver {
+            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
+                config.target_density_error = target;
+            }
+            SolverSpec::Wcsph(_) | SolverSpec::Soil(_) => {
+                return Err(format!(
+                    "--target-error applies to pcisph, iisph and dfsph, not {}",
+                    scene.solver.name()
+                ));
+            }
+        }
+    }
+    // Everything a user can get wrong is reported here, before any output or banner.
+    scene.validate().map_err(|error| error.to_string())?;
+    geosph_runner::output::check_folder(&cli.out)
+        .map_err(|reason| format!("output folder `{}`: {reason}", cli.out.display()))?;
     Ok(scene)
 }
 

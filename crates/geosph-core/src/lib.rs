@@ -12,6 +12,24 @@
 //! - [`permutation`]: a reordering of particles ([`Permutation`]) applied in place to any field.
 //! - [`particles`]: structure-of-arrays [`Particles`] storage; optional field groups (pressure,
 //!   soil state, gradient-correction matrices) exist only when a solver or model asks for them.
+//!
+//! # Example
+//!
+//! Particles at rest in a box periodic along x, and the minimum-image distance across the
+//! period:
+//!
+//! ```
+//! use geosph_core::{Domain, Particles, Vector};
+//!
+//! let domain = Domain::with_periodic(Vector::<2>::zeros(), Vector::<2>::new(1.0, 1.0), [true, false])?;
+//! let x = vec![Vector::<2>::new(0.05, 0.5), Vector::<2>::new(0.95, 0.5)];
+//! let particles = Particles::at_rest(x, 0.01, 1000.0);
+//! assert_eq!(particles.len(), 2);
+//! assert!(particles.pressure.is_none()); // optional fields exist only when asked for
+//! let r = domain.displacement(&particles.position[0], &particles.position[1]);
+//! assert!((r[0] - 0.1).abs() < 1e-12); // through the periodic boundary, not 0.9 across
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![warn(missing_docs)]
 
 pub mod domain;

@@ -10,6 +10,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::diffusion::{DeltaAntuono2010, DeltaMolteni2009, DensityDiffusion, NoDiffusion};
 use crate::eos::{EosKind, EquationOfState};
+use crate::incompressible::{
+    Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
+    WallPressure, lattice_kernel_sum,
+};
 use crate::solver::{FluidSolver, Wcsph};
 use crate::viscosity::{ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Viscosity};
 use crate::wcsph::{DensityMode, WcsphSystem};
@@ -122,6 +126,69 @@ impl Default for WcsphConfig {
     }
 }
 
+/// Parameters of the incompressible solvers (PCISPH, IISPH, DFSPH).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IncompressibleConfig {
+    /// Target average relative compression (default 0.001 = 0.1 %).
+    pub target_density_error: Real,
+    /// Least pressure iterations per step (default 2; PCISPH always does at least 3).
+    pub min_iterations: usize,
+    /// Most pressure iterations per step (default 100).
+    pub max_iterations: usize,
+    /// Courant number λ of the velocity CFL: no particle moves more than λ dx per step
+    /// (default 0.4).
+    pub cfl: Real,
+    /// Upper bound on the time step in s (default 0.005 s; `None` for no bound).
+    pub max_time_step: Option<Real>,
+    /// Viscous term (default artificial, α = 0.02, with the velocity scale 10 √(2 g H) that
+    /// WCSPH uses as its sound speed, so both dissipate alike).
+    pub viscosity: ViscosityConfig,
+    /// Wall pressure model (default hydrostatic).
+    pub wall_pressure: WallPressure,
+    /// IISPH: relaxation ω of the Jacobi update (default 0.5).
+    pub relaxation: Real,
+    /// DFSPH: run the divergence-free solve (default true).
+    pub divergence_solve: bool,
+    /// DFSPH: target of the divergence solve, average Δt Dρ/Dt / ρ₀ (default 0.001).
+    pub target_divergence_error: Real,
+    /// Steps between Z-order sorts (default 100).
+    pub reorder_every: usize,
+}
+
+impl Default for IncompressibleConfig {
+    fn default() -> Self {
+        let settings = PressureSolveSettings::default();
+        Self {
+            target_density_error: settings.target_density_error,
+            min_iterations: settings.min_iterations,
+            max_iterations: settings.max_iterations,
+            cfl: settings.cfl,
+            max_time_step: settings.max_time_step,
+            viscosity: ViscosityConfig::Artificial {
+                alpha: 0.02,
+                beta: 0.0,
+            },
+            wall_pressure: WallPressure::Hydrostatic,
+            relaxation: 0.5,
+            divergence_solve: true,
+            target_divergence_error: 1e-3,
+            reorder_every: 100,
+        }
+    }
+}
+
+/// The incompressible methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IncompressibleMethod {
+    /// Solenthaler & Pajarola (2009).
+    Pcisph,
+    /// Ihmsen et al. (2014).
+    Iisph,
+    /// Bender & Koschier (2015, 2017).
+    Dfsph,
+}
+
 /// Everything a fluid solver needs besides its configuration.
 pub struct FluidSetup<const D: usize> {
     /// The smoothing kernel's name.
@@ -138,6 +205,8 @@ pub struct FluidSetup<const D: usize> {
     pub gravity: Vector<D>,
     /// Wall particles.
     pub walls: WallParticles<D>,
+    /// Particle spacing dx.
+    pub spacing: Real,
 }
 
 /// Builds the WCSPH solver that `config` describes, monomorphised over the kernel, viscosity
@@ -258,6 +327,117 @@ impl<const D: usize> WcsphBuilder<'_, D> {
         solver.cfl = config.cfl;
         solver.reorder_every = config.reorder_every;
         solver.shepard_every = config.shepard_every;
+        Ok(Box::new(solver))
+    }
+}
+
+/// Builds the incompressible solver `method` that `config` describes, monomorphised over the
+/// kernel and viscosity it names.
+pub fn build_incompressible<const D: usize>(
+    method: IncompressibleMethod,
+    config: &IncompressibleConfig,
+    setup: FluidSetup<D>,
+    fluid: &mut Particles<D>,
+) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+    let (kernel, h) = (setup.kernel, setup.smoothing_length);
+    kernel.dispatch::<D, _>(
+        h,
+        IncompressibleBuilder {
+            method,
+            config,
+            setup,
+            fluid,
+        },
+    )
+}
+
+struct IncompressibleBuilder<'a, const D: usize> {
+    method: IncompressibleMethod,
+    config: &'a IncompressibleConfig,
+    setup: FluidSetup<D>,
+    fluid: &'a mut Particles<D>,
+}
+
+impl<const D: usize> KernelVisitor<D> for IncompressibleBuilder<'_, D> {
+    type Output = Result<Box<dyn FluidSolver<D>>, SearchError>;
+
+    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
+        match self.config.viscosity {
+            ViscosityConfig::None => self.with_viscosity(kernel, Inviscid),
+            ViscosityConfig::Artificial { alpha, beta } => {
+                let viscosity = ArtificialMonaghan1992 {
+                    alpha,
+                    beta,
+                    smoothing_length: kernel.smoothing_length(),
+                    sound_speed: self.setup.sound_speed,
+                };
+                self.with_viscosity(kernel, viscosity)
+            }
+            ViscosityConfig::Laminar {
+                kinematic_viscosity,
+            } => self.with_viscosity(
+                kernel,
+                LaminarMorris1997 {
+                    kinematic_viscosity,
+                },
+            ),
+        }
+    }
+}
+
+impl<const D: usize> IncompressibleBuilder<'_, D> {
+    fn with_viscosity<K: Kernel<D>, V: Viscosity<D>>(
+        self,
+        kernel: K,
+        viscosity: V,
+    ) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+        let config = self.config;
+        let spacing = self.setup.spacing;
+        match self.method {
+            IncompressibleMethod::Pcisph => {
+                let mass = self.setup.rest_density / lattice_kernel_sum(&kernel, spacing);
+                let method = Pcisph::new::<D, K>(&kernel, spacing, mass);
+                self.finish(kernel, viscosity, method)
+            }
+            IncompressibleMethod::Iisph => {
+                let method = Iisph {
+                    relaxation: config.relaxation,
+                    ..Iisph::default()
+                };
+                self.finish(kernel, viscosity, method)
+            }
+            IncompressibleMethod::Dfsph => {
+                let method = Dfsph::new(config.divergence_solve, config.target_divergence_error);
+                self.finish(kernel, viscosity, method)
+            }
+        }
+    }
+
+    fn finish<K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D> + 'static>(
+        self,
+        kernel: K,
+        viscosity: V,
+        method: M,
+    ) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+        let (config, setup) = (self.config, self.setup);
+        let system = PressureSystem::new(
+            kernel,
+            setup.domain,
+            setup.rest_density,
+            viscosity,
+            setup.gravity,
+            setup.walls,
+            config.wall_pressure,
+        )?;
+        let settings = PressureSolveSettings {
+            target_density_error: config.target_density_error,
+            min_iterations: config.min_iterations,
+            max_iterations: config.max_iterations,
+            cfl: config.cfl,
+            max_time_step: config.max_time_step,
+        };
+        let mut solver = Incompressible::new(system, method, settings, setup.spacing, self.fluid)?;
+        solver.reorder_every = config.reorder_every;
         Ok(Box::new(solver))
     }
 }

@@ -7,19 +7,60 @@
 //! - [`diffusion`]: δ-SPH density diffusion (Molteni & Colagrossi 2009, Antuono et al. 2010).
 //! - [`wcsph`]: the weakly compressible SPH system ([`WcsphSystem`]): symmetric momentum,
 //!   continuity or summation density, XSPH, Shepard re-initialisation, Adami walls.
+//! - [`incompressible`]: PCISPH, IISPH and DFSPH on shared operators ([`incompressible::PressureSystem`]).
 //! - [`solver`]: the [`FluidSolver`] trait the runner steps, and [`Wcsph`].
 //! - [`config`]: scene-level configuration ([`WcsphConfig`]) and [`build_wcsph`], which
 //!   resolves every option to a type once, so the hot loops carry no option flags.
+//!
+//! # Example
+//!
+//! A small water block at rest in a tank, stepped with the default WCSPH configuration,
+//! without the scene or runner crates:
+//!
+//! ```
+//! use geosph_boundary::generate;
+//! use geosph_core::{Domain, Particles, Vector};
+//! use geosph_fluid::{EosKind, EquationOfState, FluidSetup, WcsphConfig, build_wcsph};
+//! use geosph_kernels::KernelKind;
+//!
+//! // Tait: p = ρ₀c₀²/γ ((ρ/ρ₀)^γ − 1), 4.12 kPa for 1 % compression at c₀ = 20 m/s.
+//! let eos = EquationOfState { kind: EosKind::Tait { gamma: 7.0 }, rest_density: 1000.0, sound_speed: 20.0 };
+//! assert!((eos.pressure(1010.0) - 4122.0).abs() < 1.0);
+//!
+//! let dx = 0.05;
+//! let (min, max) = (Vector::<2>::zeros(), Vector::<2>::new(0.5, 0.5));
+//! let mut water = Particles::at_rest(generate::fill_box(&min, &Vector::<2>::new(0.5, 0.25), dx), 1000.0 * dx * dx, 1000.0);
+//! let setup = FluidSetup {
+//!     kernel: KernelKind::WendlandC2,
+//!     smoothing_length: 1.3 * dx,
+//!     domain: Domain::new(Vector::<2>::repeat(-0.5), Vector::<2>::repeat(1.5))?,
+//!     rest_density: 1000.0,
+//!     sound_speed: 20.0,
+//!     gravity: Vector::<2>::new(0.0, -9.81),
+//!     walls: generate::tank(&min, &max, dx, 3, true, 1000.0),
+//! };
+//! let mut solver = build_wcsph(&WcsphConfig::default(), setup, &mut water)?;
+//! let mut time = 0.0;
+//! while time < 0.01 {
+//!     time += solver.step(&mut water, time, 0.01 - time)?.dt;
+//! }
+//! assert!(water.position.iter().all(|x| x[1] > 0.0)); // held up by the tank floor
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![warn(missing_docs)]
 
 pub mod config;
 pub mod diffusion;
 pub mod eos;
+pub mod incompressible;
 pub mod solver;
 pub mod viscosity;
 pub mod wcsph;
 
-pub use config::{FluidSetup, WcsphConfig, build_wcsph};
+pub use config::{
+    FluidSetup, IncompressibleConfig, IncompressibleMethod, WcsphConfig, build_incompressible,
+    build_wcsph,
+};
 pub use eos::{EosKind, EquationOfState};
 pub use solver::{FluidSolver, SolverError, StepReport, Wcsph};
 pub use wcsph::WcsphSystem;

@@ -15,8 +15,10 @@ use crate::wcsph::WcsphSystem;
 pub struct StepReport {
     /// The time step taken.
     pub dt: Real,
-    /// Pressure iterations (1 for explicit solvers).
+    /// Pressure iterations (1 for explicit solvers; the constant-density solve for DFSPH).
     pub iterations: usize,
+    /// Iterations of DFSPH's divergence-free solve (0 for the other solvers).
+    pub divergence_iterations: usize,
     /// Mean relative density error |ρ − ρ₀|/ρ₀ over the fluid.
     pub density_error_mean: Real,
     /// Largest relative density error.
@@ -60,6 +62,14 @@ pub trait FluidSolver<const D: usize>: Send {
 
     /// The reference sound speed c₀ (0 for incompressible solvers).
     fn sound_speed(&self) -> Real;
+
+    /// The density error this solver controls, per particle, as a fraction of ρ₀: |ρ/ρ₀ − 1|
+    /// for WCSPH; the compression max(ρ/ρ₀ − 1, 0) for the incompressible solvers, whose
+    /// free-surface particles sit below ρ₀ by construction.
+    fn density_error(&self, density: Real) -> Real;
+
+    /// What a user can change when the density error runs away.
+    fn blow_up_advice(&self) -> &'static str;
 }
 
 /// Mean and maximum of |ρ/ρ₀ − 1|, summed in index order so they do not depend on the number
@@ -175,6 +185,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
         Ok(StepReport {
             dt,
             iterations: 1,
+            divergence_iterations: 0,
             density_error_mean: mean,
             density_error_max: max,
         })
@@ -186,6 +197,14 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
 
     fn sound_speed(&self) -> Real {
         self.system.eos.sound_speed
+    }
+
+    fn density_error(&self, density: Real) -> Real {
+        (density / self.system.eos.rest_density - 1.0).abs()
+    }
+
+    fn blow_up_advice(&self) -> &'static str {
+        "the sound speed is too low or the time step too large (lower `cfl`)"
     }
 }
 

@@ -34,6 +34,8 @@ pub struct CsvSeries {
     pending: String,
     pending_rows: usize,
     flush_every: usize,
+    /// Length of the file up to its last complete flush; a failed write is cut back to it.
+    complete_len: u64,
 }
 
 impl CsvSeries {
@@ -66,7 +68,10 @@ impl CsvSeries {
             .append(true)
             .open(&path)
             .map_err(|e| Error::io(&path, e))?;
-        Ok(Self::with_file(path, file, columns.len()))
+        let complete_len = file.metadata().map_err(|e| Error::io(&path, e))?.len();
+        let mut series = Self::with_file(path, file, columns.len());
+        series.complete_len = complete_len;
+        Ok(series)
     }
 
     fn with_file(path: PathBuf, file: File, columns: usize) -> Self {
@@ -77,6 +82,7 @@ impl CsvSeries {
             pending: String::new(),
             pending_rows: 0,
             flush_every: 1,
+            complete_len: 0,
         }
     }
 
@@ -107,12 +113,23 @@ impl CsvSeries {
     }
 
     /// Writes all pending rows to the file.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the write fails (a full disk, a file-size limit): the part of the
+    /// rows that reached the file is cut off again, so the file ends with its last complete
+    /// row, and the pending rows are dropped.
     pub fn flush(&mut self) -> Result<(), Error> {
         if !self.pending.is_empty() {
-            self.file
-                .write_all(self.pending.as_bytes())
-                .map_err(|e| Error::io(&self.path, e))?;
+            let written = self.file.write_all(self.pending.as_bytes());
+            let length = self.pending.len() as u64;
             self.pending.clear();
+            self.pending_rows = 0;
+            if let Err(error) = written {
+                // Best effort: the file may not even accept truncation.
+                let _ = self.file.set_len(self.complete_len);
+                return Err(Error::io(&self.path, error));
+            }
+            self.complete_len += length;
         }
         self.pending_rows = 0;
         Ok(())
@@ -188,6 +205,20 @@ fn push_row(text: &mut String, row: &[Real]) {
 mod tests {
     use super::*;
     use crate::atomic::tests::scratch_folder;
+
+    /// `/dev/full` fails every write with "no space left on device": a full disk.
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_full_disk_is_an_error_naming_the_file() {
+        let path = Path::new("/dev/full");
+        if !path.exists() {
+            return;
+        }
+        let error = CsvSeries::create(path, &["time", "energy"]).unwrap_err();
+        let message = error.to_string();
+        assert!(message.starts_with("/dev/full: "), "{message}");
+        assert!(matches!(&error, Error::Io { source, .. } if source.raw_os_error() == Some(28)));
+    }
 
     #[test]
     fn series_writes_header_and_rows_flushed_each_row() {

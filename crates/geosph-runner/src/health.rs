@@ -1,7 +1,7 @@
 //! Blow-up checks after every step.
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::StepReport;
+use geosph_fluid::{FluidSolver, StepReport};
 
 /// Largest relative density error |ρ/ρ₀ − 1| a weakly compressible run may reach before it is
 /// declared blown up. WCSPH is designed for ≈ 1 % (Monaghan 1994); 20 % means the sound speed
@@ -23,7 +23,7 @@ pub struct Diagnosis {
 pub fn check<const D: usize>(
     report: &StepReport,
     fluid: &Particles<D>,
-    rest_density: Real,
+    solver: &dyn FluidSolver<D>,
 ) -> Option<Diagnosis> {
     if !(report.dt.is_finite() && report.dt > 0.0) {
         return Some(Diagnosis {
@@ -41,7 +41,7 @@ pub fn check<const D: usize>(
         let i = (0..fluid.len())
             .max_by(|&a, &b| {
                 let error = |k: usize| {
-                    let e = (fluid.density[k] / rest_density - 1.0).abs();
+                    let e = solver.density_error(fluid.density[k]);
                     if e.is_nan() { Real::INFINITY } else { e }
                 };
                 error(a).total_cmp(&error(b))
@@ -51,11 +51,11 @@ pub fn check<const D: usize>(
             "density error",
             i,
             format!(
-                "density {} is {:.1} % from the rest density {} (bound {:.0} %): the sound speed is too low or the time step too large",
+                "density {} is {:.1} % from the rest density (bound {:.0} %): {}",
                 fluid.density[i],
-                100.0 * (fluid.density[i] / rest_density - 1.0),
-                rest_density,
-                100.0 * MAX_DENSITY_ERROR
+                100.0 * solver.density_error(fluid.density[i]),
+                100.0 * MAX_DENSITY_ERROR,
+                solver.blow_up_advice()
             ),
         ));
     }

@@ -1,6 +1,6 @@
 //! Runs a geosph scene.
 //!
-//! [`run`] validates the scene, builds particles and the solver it declares (and nothing it
+//! [`run`](fn@run) validates the scene, builds particles and the solver it declares (and nothing it
 //! does not declare), steps the solver to the end time with events at the output and sample
 //! times, writes a VTU frame per output interval plus a `.pvd` series that ParaView opens, a
 //! `diagnostics.csv` time series, shows a progress bar with ETA, and returns a [`Summary`].
@@ -13,6 +13,27 @@
 //! - [`output`]: the run's output folder: frames, `.pvd`, CSV.
 //! - [`health`]: the blow-up checks.
 //! - [`run`](mod@run): the loop, [`RunOptions`], [`Summary`], [`RunError`].
+//!
+//! # Example
+//!
+//! Run a tiny scene for a few milliseconds without writing files (set
+//! [`RunOptions::out_dir`] to get frames, the `.pvd` and `diagnostics.csv`):
+//!
+//! ```
+//! use geosph_runner::{NoObserver, RunOptions, run};
+//! use geosph_scene::Scene;
+//!
+//! let scene = Scene::from_ron(r#"Scene(
+//!     name: "tiny", dimension: 2, dx: 0.1, end_time: 0.005,
+//!     fluid: (blocks: [Box(min: [0.0, 0.0], max: [0.4, 0.4])]),
+//!     walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0])],
+//!     solver: Wcsph(()),
+//! )"#)?;
+//! let summary = run(&scene, &RunOptions { threads: Some(1), ..Default::default() }, &mut NoObserver)?;
+//! assert_eq!(summary.fluid_particles, 16);
+//! assert!(summary.simulated_time >= 0.005 - 1e-12 && summary.frames == 0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![warn(missing_docs)]
 
 pub mod health;

@@ -17,7 +17,7 @@ pub struct RunOutput {
 }
 
 /// Columns of `diagnostics.csv` that every run writes, before the observer's.
-pub const DIAGNOSTIC_COLUMNS: [&str; 7] = [
+pub const DIAGNOSTIC_COLUMNS: [&str; 9] = [
     "time",
     "step",
     "dt",
@@ -25,7 +25,53 @@ pub const DIAGNOSTIC_COLUMNS: [&str; 7] = [
     "density_error_mean",
     "density_error_max",
     "max_speed",
+    "iterations",
+    "divergence_iterations",
 ];
+
+/// Checks, without creating anything, that the folder `dir` exists and can be written, or that
+/// it can be created: its nearest existing ancestor is a folder in which a file can be made
+/// (a probe file is created and removed at once). Returns a one-line reason otherwise.
+pub fn check_folder(dir: &Path) -> Result<(), String> {
+    let mut existing = dir;
+    loop {
+        match std::fs::metadata(existing) {
+            Ok(metadata) if metadata.is_dir() => break,
+            Ok(_) if existing == dir => return Err("exists and is not a folder".into()),
+            Ok(_) => {
+                return Err(format!(
+                    "cannot be created: `{}` is a file, not a folder",
+                    existing.display()
+                ));
+            }
+            Err(error)
+                if matches!(
+                    error.kind(),
+                    std::io::ErrorKind::NotFound | std::io::ErrorKind::NotADirectory
+                ) =>
+            {
+                existing = match existing.parent() {
+                    Some(parent) if !parent.as_os_str().is_empty() => parent,
+                    _ if existing != Path::new(".") => Path::new("."),
+                    _ => return Err(format!("cannot be created: {error}")),
+                }
+            }
+            Err(error) => return Err(format!("cannot be inspected: {error}")),
+        }
+    }
+    let probe = existing.join(format!(".geosph-write-probe-{}", std::process::id()));
+    match std::fs::File::create(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(error) if existing == dir => Err(format!("cannot be written: {error}")),
+        Err(error) => Err(format!(
+            "cannot be created in `{}`: {error}",
+            existing.display()
+        )),
+    }
+}
 
 impl RunOutput {
     /// Creates `dir` (and `dir/frames` when `vtk`) and the CSV with `extra_columns`.

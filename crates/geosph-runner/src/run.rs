@@ -4,7 +4,9 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::{FluidSolver, SolverError, build_wcsph};
+use geosph_fluid::{
+    FluidSolver, IncompressibleMethod, SolverError, build_incompressible, build_wcsph,
+};
 use geosph_scene::{Scene, SceneError, SolverSpec};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -50,6 +52,10 @@ pub struct Summary {
     pub max_density_error: Real,
     /// Mean relative density error over all steps.
     pub mean_density_error: Real,
+    /// Mean pressure iterations per step (1 for WCSPH).
+    pub mean_iterations: Real,
+    /// Mean divergence-solve iterations per step (DFSPH; 0 otherwise).
+    pub mean_divergence_iterations: Real,
     /// Bytes per fluid particle held by its fields.
     pub bytes_per_particle: usize,
     /// VTU frames written.
@@ -83,11 +89,16 @@ impl std::fmt::Display for Summary {
             self.wall_time,
             self.particle_steps_per_second * 1e-6
         )?;
-        write!(
+        writeln!(
             f,
             "density error      mean {:.3} %, max {:.3} %",
             100.0 * self.mean_density_error,
             100.0 * self.max_density_error
+        )?;
+        writeln!(
+            f,
+            "iterations         {:.1} per step (divergence solve {:.1})",
+            self.mean_iterations, self.mean_divergence_iterations
         )?;
         if let Some(geostatic) = &self.geostatic {
             write!(f, "\n{geostatic}")?;
@@ -127,6 +138,14 @@ pub enum RunError {
         /// What went wrong.
         diagnosis: Diagnosis,
     },
+    /// The output folder cannot be created or written; found before any work is done.
+    #[error("output folder `{}`: {reason}", path.display())]
+    OutputFolder {
+        /// The folder asked for.
+        path: PathBuf,
+        /// Why it cannot be used.
+        reason: String,
+    },
     /// Writing output failed.
     #[error("output: {0}")]
     Output(#[from] geosph_io::Error),
@@ -144,9 +163,15 @@ where
     O: Observer<2> + Observer<3> + Send,
 {
     scene.validate()?;
+    if let Some(dir) = &options.out_dir {
+        crate::output::check_folder(dir).map_err(|reason| RunError::OutputFolder {
+            path: dir.clone(),
+            reason,
+        })?;
+    }
     let mut work = || match scene.dimension {
-        2 => run_in::<2, O>(scene, options, observer),
-        _ => run_in::<3, O>(scene, options, observer),
+        2 => run_plane(scene, options, observer),
+        _ => run_space(scene, options, observer),
     };
     match options.threads {
         Some(threads) => rayon::ThreadPoolBuilder::new()
@@ -183,29 +208,64 @@ fn progress_bar(options: &RunOptions, end_time: Real) -> ProgressBar {
     bar
 }
 
-fn run_in<const D: usize, O: Observer<D>>(
+/// A 2D run. Not generic, so that every solver is compiled once, in this crate, rather than
+/// again in each crate that calls [`run`] (Rust monomorphises generics where they are used).
+fn run_plane(
     scene: &Scene,
     options: &RunOptions,
-    observer: &mut O,
+    observer: &mut dyn Observer<2>,
+) -> Result<Summary, RunError> {
+    run_in::<2>(scene, options, observer)
+}
+
+/// A 3D run, see [`run_plane`].
+fn run_space(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut dyn Observer<3>,
+) -> Result<Summary, RunError> {
+    run_in::<3>(scene, options, observer)
+}
+
+fn run_in<const D: usize>(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut dyn Observer<D>,
 ) -> Result<Summary, RunError> {
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
-    let rest_density = solver_inputs.rest_density;
     let wall_particles = solver_inputs.walls.len();
     let mut geostatic = None;
-    let mut solver: Box<dyn FluidSolver<D>> = match &scene.solver {
-        SolverSpec::Wcsph(config) => {
-            build_wcsph(config, solver_inputs, &mut fluid).map_err(|source| RunError::Solver {
-                time: 0.0,
-                step: 0,
-                source: source.into(),
-            })?
-        }
+    let built = match &scene.solver {
+        SolverSpec::Wcsph(config) => build_wcsph(config, solver_inputs, &mut fluid),
+        SolverSpec::Pcisph(config) => build_incompressible(
+            IncompressibleMethod::Pcisph,
+            config,
+            solver_inputs,
+            &mut fluid,
+        ),
+        SolverSpec::Iisph(config) => build_incompressible(
+            IncompressibleMethod::Iisph,
+            config,
+            solver_inputs,
+            &mut fluid,
+        ),
+        SolverSpec::Dfsph(config) => build_incompressible(
+            IncompressibleMethod::Dfsph,
+            config,
+            solver_inputs,
+            &mut fluid,
+        ),
         SolverSpec::Soil(config) => {
             let built = geosph_soil::build_soil(config, solver_inputs, &mut fluid)?;
             geostatic = built.geostatic;
-            built.solver
+            Ok(built.solver)
         }
     };
+    let mut solver: Box<dyn FluidSolver<D>> = built.map_err(|source| RunError::Solver {
+        time: 0.0,
+        step: 0,
+        source: source.into(),
+    })?;
 
     let vtk = options.vtk.unwrap_or(scene.output.vtk);
     let mut output = match &options.out_dir {
@@ -233,6 +293,8 @@ fn run_in<const D: usize, O: Observer<D>>(
             report.density_error_mean,
             report.density_error_max,
             geosph_fluid::solver::max_speed(&fluid.velocity),
+            report.iterations as Real,
+            report.divergence_iterations as Real,
         ]);
         observer.sample(time, fluid, &mut row);
         if let Some(output) = output {
@@ -247,10 +309,11 @@ fn run_in<const D: usize, O: Observer<D>>(
     let mut time = 0.0;
     let mut steps = 0;
     let mut report = geosph_fluid::StepReport::default();
-    let (initial_mean, initial_max) =
-        geosph_fluid::solver::density_errors(&fluid.density, rest_density);
-    report.density_error_mean = initial_mean;
-    report.density_error_max = initial_max;
+    for &rho in &fluid.density {
+        let error = solver.density_error(rho);
+        report.density_error_mean += error / fluid.len().max(1) as Real;
+        report.density_error_max = report.density_error_max.max(error);
+    }
     sample(0.0, 0, &report, &fluid, &mut output)?;
     if let Some(output) = &mut output {
         output.write_frame(0.0, &fluid, solver.walls())?;
@@ -262,6 +325,7 @@ fn run_in<const D: usize, O: Observer<D>>(
     let mut next_sample = sample_interval;
     let mut max_density_error: Real = 0.0;
     let mut density_error_sum = 0.0;
+    let (mut iteration_sum, mut divergence_iteration_sum) = (0, 0);
     let mut last_draw = Instant::now();
     // Times within this tolerance of an event count as reaching it.
     let tolerance = 1e-9 * end_time;
@@ -276,7 +340,7 @@ fn run_in<const D: usize, O: Observer<D>>(
             })?;
         time += report.dt;
         steps += 1;
-        if let Some(diagnosis) = health::check(&report, &fluid, rest_density) {
+        if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref()) {
             bar.finish_and_clear();
             if let Some(output) = &mut output {
                 output.flush()?;
@@ -289,6 +353,8 @@ fn run_in<const D: usize, O: Observer<D>>(
         }
         max_density_error = max_density_error.max(report.density_error_max);
         density_error_sum += report.density_error_mean;
+        iteration_sum += report.iterations;
+        divergence_iteration_sum += report.divergence_iterations;
         if time >= next_sample - tolerance {
             sample(time, steps, &report, &fluid, &mut output)?;
             samples += 1.0;
@@ -329,6 +395,8 @@ fn run_in<const D: usize, O: Observer<D>>(
         particle_steps_per_second: (fluid.len() * steps) as Real / wall_time,
         max_density_error,
         mean_density_error: density_error_sum / steps.max(1) as Real,
+        mean_iterations: iteration_sum as Real / steps.max(1) as Real,
+        mean_divergence_iterations: divergence_iteration_sum as Real / steps.max(1) as Real,
         bytes_per_particle: fluid.bytes_per_particle(),
         frames,
         geostatic,

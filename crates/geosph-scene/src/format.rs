@@ -1,7 +1,7 @@
 //! The scene file format (RON, read with serde).
 
 use geosph_core::Real;
-use geosph_fluid::WcsphConfig;
+use geosph_fluid::{IncompressibleConfig, WcsphConfig};
 use serde::{Deserialize, Serialize};
 
 use crate::validate::SceneError;
@@ -172,6 +172,12 @@ pub enum SolverSpec {
     Wcsph(#[serde(default)] WcsphConfig),
     /// Elastoplastic soil SPH (`geosph-soil`).
     Soil(#[serde(default)] geosph_soil::SoilConfig),
+    /// Predictive–corrective incompressible SPH (Solenthaler & Pajarola 2009).
+    Pcisph(#[serde(default)] IncompressibleConfig),
+    /// Implicit incompressible SPH (Ihmsen et al. 2014).
+    Iisph(#[serde(default)] IncompressibleConfig),
+    /// Divergence-free SPH (Bender & Koschier 2017).
+    Dfsph(#[serde(default)] IncompressibleConfig),
 }
 
 impl SolverSpec {
@@ -180,17 +186,32 @@ impl SolverSpec {
         match self {
             SolverSpec::Wcsph(_) => "wcsph",
             SolverSpec::Soil(_) => "soil",
+            SolverSpec::Pcisph(_) => "pcisph",
+            SolverSpec::Iisph(_) => "iisph",
+            SolverSpec::Dfsph(_) => "dfsph",
         }
+    }
+
+    /// The names [`SolverSpec::from_name`] accepts.
+    pub const NAMES: [&'static str; 4] = ["wcsph", "pcisph", "iisph", "dfsph"];
+
+    /// The solver `name` with its default parameters, or `None` for an unknown name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name {
+            "wcsph" => SolverSpec::Wcsph(Default::default()),
+            "pcisph" => SolverSpec::Pcisph(Default::default()),
+            "iisph" => SolverSpec::Iisph(Default::default()),
+            "dfsph" => SolverSpec::Dfsph(Default::default()),
+            _ => return None,
+        })
     }
 }
 
 impl Scene {
-    /// Reads a scene from RON text; errors carry the line and column.
+    /// Reads a scene from RON text; errors carry the line and column, the path of the field
+    /// being read (e.g. `fluid.blocks[0].max`) and the offending text.
     pub fn from_ron(text: &str) -> Result<Self, SceneError> {
-        ron::Options::default()
-            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
-            .from_str(text)
-            .map_err(|error| SceneError::Parse(error.to_string()))
+        crate::parse::scene(text)
     }
 
     /// Writes the scene as pretty RON.
@@ -239,7 +260,7 @@ mod tests {
         let text = "Scene(\n  name: \"x\",\n  dimension: 2,\n  dxx: 0.1,\n)";
         let message = Scene::from_ron(text).unwrap_err().to_string();
         assert!(
-            message.contains("4:") && message.contains("dxx"),
+            message.contains("line 4, column 3") && message.contains("dxx"),
             "{message}"
         );
     }

@@ -6,12 +6,38 @@
 //! [`setup::build`] turns a valid scene into particles, walls and solver inputs.
 //!
 //! Modules:
-//! - [`format`]: the serde types of the scene file.
+//! - [`format`](mod@format): the serde types of the scene file.
 //! - [`validate`]: range checks with errors naming the field ([`SceneError`]).
 //! - [`setup`]: particles, walls, domain, smoothing length and sound speed of a scene.
+//!
+//! # Example
+//!
+//! Read a scene, have a careless value reported with its field and allowed range, then build
+//! the particles of the corrected scene:
+//!
+//! ```
+//! use geosph_scene::{Scene, build};
+//!
+//! let text = r#"Scene(
+//!     name: "column", dimension: 2, dx: 0.05, end_time: 0.5, smoothing_ratio: 3.0,
+//!     fluid: (blocks: [Box(min: [0.0, 0.0], max: [0.5, 1.0])]),
+//!     walls: [Tank(min: [0.0, 0.0], max: [2.0, 2.0])],
+//!     solver: Wcsph(()),
+//! )"#;
+//! let mut scene = Scene::from_ron(text)?;
+//! let error = scene.validate().unwrap_err();
+//! assert_eq!(error.to_string(), "scene field `smoothing_ratio`: must lie in [1, 2.5], got 3");
+//!
+//! scene.smoothing_ratio = 1.3;
+//! let setup = build::<2>(&scene)?;
+//! assert_eq!(setup.fluid.len(), 10 * 20);
+//! assert!(setup.walls.len() > 0 && setup.sound_speed > 0.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![warn(missing_docs)]
 
 pub mod format;
+mod parse;
 pub mod setup;
 pub mod validate;
 

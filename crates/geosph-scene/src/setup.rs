@@ -30,6 +30,8 @@ pub struct Setup<const D: usize> {
     pub gravity: Vector<D>,
     /// Height H of the fluid (extent along the last axis).
     pub fluid_height: Real,
+    /// Particle spacing dx.
+    pub spacing: Real,
 }
 
 impl<const D: usize> Setup<D> {
@@ -43,6 +45,7 @@ impl<const D: usize> Setup<D> {
             sound_speed: self.sound_speed,
             gravity: self.gravity,
             walls: self.walls,
+            spacing: self.spacing,
         };
         (self.fluid, solver_inputs)
     }
@@ -62,6 +65,75 @@ fn to_dimension<const D: usize>(plane: WallParticles<2>) -> WallParticles<D> {
         density: plane.density,
         viscous_velocity: plane.viscous_velocity.iter().map(lift).collect(),
     }
+}
+
+/// The first fluid particle `i` closer than `gap` (minus round-off) to a wall particle `j`, with
+/// the distance; by hashing the wall particles into cells of size `gap`.
+fn overlap<const D: usize>(
+    fluid: &[Vector<D>],
+    walls: &[Vector<D>],
+    gap: Real,
+) -> Option<(usize, usize, Real)> {
+    use std::collections::HashMap;
+    let cell = |x: &Vector<D>| -> [i64; D] { std::array::from_fn(|k| (x[k] / gap).floor() as i64) };
+    let mut cells: HashMap<[i64; D], Vec<usize>> = HashMap::new();
+    for (j, x) in walls.iter().enumerate() {
+        cells.entry(cell(x)).or_default().push(j);
+    }
+    let limit = gap * (1.0 - 1e-9);
+    let offsets = 3_usize.pow(D as u32);
+    for (i, x) in fluid.iter().enumerate() {
+        let home = cell(x);
+        for offset in 0..offsets {
+            let mut key = home;
+            let mut rest = offset;
+            for k in 0..D {
+                key[k] += (rest % 3) as i64 - 1;
+                rest /= 3;
+            }
+            for &j in cells.get(&key).into_iter().flatten() {
+                let distance = (x - walls[j]).norm();
+                if distance < limit {
+                    return Some((i, j, distance));
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The first fluid particle that lies behind the polyline `points` (on the side away from
+/// the flow, beyond round-off) by less than `thickness`, i.e. inside the wall's particle
+/// layers, with how far behind it is. Only the first two coordinates count.
+fn behind_polyline<const D: usize>(
+    fluid: &[Vector<D>],
+    points: &[Vector<2>],
+    flow: generate::FlowSide,
+    thickness: Real,
+) -> Option<(usize, Real)> {
+    for segment in points.windows(2) {
+        let (start, end) = (segment[0], segment[1]);
+        let length = (end - start).norm();
+        if length <= 0.0 {
+            continue;
+        }
+        let tangent = (end - start) / length;
+        let left = Vector::<2>::new(-tangent[1], tangent[0]);
+        let into_flow = match flow {
+            generate::FlowSide::Left => left,
+            generate::FlowSide::Right => -left,
+        };
+        let round_off = 1e-9 * length;
+        for (i, x) in fluid.iter().enumerate() {
+            let relative = Vector::<2>::new(x[0], x[1]) - start;
+            let along = relative.dot(&tangent);
+            let behind = -relative.dot(&into_flow);
+            if along >= 0.0 && along <= length && behind > round_off && behind < thickness {
+                return Some((i, behind));
+            }
+        }
+    }
+    None
 }
 
 fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
@@ -129,17 +201,19 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     let top = surface.iter().copied().fold(Real::NEG_INFINITY, Real::max);
     let fluid_height = top - bottom;
 
-    let g = gravity.norm();
-    let config = match &scene.solver {
-        SolverSpec::Wcsph(config) => config,
-        // Soil: the solver derives its wave speed from the elastic constants; ρ = ρ₀.
-        SolverSpec::Soil(_) => &geosph_fluid::WcsphConfig {
-            sound_speed: Some(0.0),
-            ..Default::default()
-        },
+    // Incompressible solvers use c₀ only as the velocity scale of artificial viscosity, and
+    // recompute the density by summation; their particles start at ρ₀ with Tait's inverse.
+    // Soil derives its wave speed from the elastic constants and starts at ρ = ρ₀.
+    let (equation_of_state, given_sound_speed) = match &scene.solver {
+        SolverSpec::Wcsph(config) => (config.equation_of_state, config.sound_speed),
+        SolverSpec::Pcisph(_) | SolverSpec::Iisph(_) | SolverSpec::Dfsph(_) => {
+            (geosph_fluid::EosKind::Tait { gamma: 7.0 }, None)
+        }
+        SolverSpec::Soil(_) => (geosph_fluid::EosKind::Tait { gamma: 7.0 }, Some(0.0)),
     };
-    let hydrostatic = fluid_spec.hydrostatic && matches!(scene.solver, SolverSpec::Wcsph(_));
-    let sound_speed = match config.sound_speed {
+    let hydrostatic = fluid_spec.hydrostatic && !matches!(scene.solver, SolverSpec::Soil(_));
+    let g = gravity.norm();
+    let sound_speed = match given_sound_speed {
         Some(c0) => c0,
         None if g > 0.0 => 10.0 * (2.0 * g * fluid_height).sqrt(),
         None => {
@@ -151,21 +225,29 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     };
     let rest_density = fluid_spec.density;
     let eos = EquationOfState {
-        kind: config.equation_of_state,
+        kind: equation_of_state,
         rest_density,
         sound_speed,
     };
     let mass = rest_density * dx.powi(D as i32);
     let mut fluid = Particles::at_rest(position, mass, rest_density);
     if hydrostatic {
-        for (i, rho) in fluid.density.iter_mut().enumerate() {
+        // The pressure is the initial guess of the incompressible solvers; WCSPH recomputes
+        // it from the density.
+        let mut pressure = vec![0.0; fluid.len()];
+        for (i, (rho, p)) in fluid.density.iter_mut().zip(&mut pressure).enumerate() {
             let depth = (surface[i] - fluid.position[i][up]).max(0.0);
-            *rho = eos.density(rest_density * g * depth);
+            *p = rest_density * g * depth;
+            *rho = eos.density(*p);
         }
+        fluid.pressure = Some(pressure);
     }
 
     let mut walls = WallParticles::default();
+    // The first wall particle of each wall, to name the wall a fluid particle overlaps.
+    let mut wall_starts = Vec::with_capacity(scene.walls.len());
     for (index, wall) in scene.walls.iter().enumerate() {
+        wall_starts.push(walls.len());
         match wall {
             WallSpec::Tank {
                 min,
@@ -200,10 +282,35 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     .iter()
                     .map(|&(x, y)| Vector::<2>::new(x, y))
                     .collect();
+                if let Some((i, behind)) =
+                    behind_polyline(&fluid.position, &points, *flow_side, *layers as Real * dx)
+                {
+                    return Err(SceneError::Field {
+                        field: format!("walls[{index}]"),
+                        message: format!(
+                            "fluid particle {i} at {:?} lies {behind:.3e} m behind the line, inside the wall's {layers} layers: the fluid overlaps the wall (flow_side: {flow_side:?})",
+                            fluid.position[i].as_slice()
+                        ),
+                    });
+                }
                 let plane = generate::polyline(&points, dx, *layers, *flow_side, rest_density);
                 walls.extend(to_dimension::<D>(plane));
             }
         }
+    }
+
+    if let Some((i, j, distance)) = overlap(&fluid.position, &walls.position, 0.5 * dx) {
+        let wall = wall_starts.partition_point(|&start| start <= j) - 1;
+        return Err(SceneError::Field {
+            field: format!("walls[{wall}]"),
+            message: format!(
+                "fluid particle {i} at {:?} is {distance:.3e} m from wall particle {j} at {:?}, \
+                 closer than dx/2 = {}: the fluid overlaps the wall",
+                fluid.position[i].as_slice(),
+                walls.position[j].as_slice(),
+                0.5 * dx
+            ),
+        });
     }
 
     let domain = match &scene.domain {
@@ -257,5 +364,6 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         sound_speed,
         gravity,
         fluid_height,
+        spacing: dx,
     })
 }

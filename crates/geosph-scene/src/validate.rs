@@ -2,7 +2,7 @@
 
 use geosph_core::Real;
 use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
-use geosph_fluid::{EosKind, WcsphConfig};
+use geosph_fluid::{EosKind, IncompressibleConfig, WcsphConfig};
 use geosph_kernels::KernelKind;
 
 use crate::format::{FluidSpec, Region, Scene, SolverSpec, WallSpec};
@@ -29,6 +29,23 @@ fn fail(field: impl Into<String>, message: impl Into<String>) -> SceneError {
         message: message.into(),
     }
 }
+
+/// Most particles (fluid and wall, estimated from the regions before any is made) a scene may
+/// ask for: about 10 GB of particle fields and neighbour lists. A larger count almost always
+/// means a dx typed in the wrong unit.
+pub const MAX_PARTICLES: Real = 2.0e7;
+
+/// Most lattice cells a tank generator may visit (its outer box, interior included).
+pub const MAX_TANK_CELLS: Real = 1.0e9;
+
+/// Most VTU frames a run may write (`end_time / output.interval`).
+pub const MAX_FRAMES: Real = 1.0e5;
+
+/// Most diagnostic samples a run may take (`end_time / output.sample_interval`).
+pub const MAX_SAMPLES: Real = 1.0e7;
+
+/// Longest scene name (it becomes part of output file names).
+pub const MAX_NAME_LENGTH: usize = 100;
 
 fn positive(field: &str, value: Real) -> Result<(), SceneError> {
     if value.is_finite() && value > 0.0 {
@@ -71,6 +88,29 @@ fn point(field: &str, values: &[Real], dimension: usize) -> Result<(), SceneErro
     Ok(())
 }
 
+fn finite_pairs(field: &str, values: &[(Real, Real)]) -> Result<(), SceneError> {
+    if let Some((index, &(x, y))) = values
+        .iter()
+        .enumerate()
+        .find(|(_, (x, y))| !(x.is_finite() && y.is_finite()))
+    {
+        return Err(fail(
+            format!("{field}[{index}]"),
+            format!("coordinates must be finite, got ({x}, {y})"),
+        ));
+    }
+    Ok(())
+}
+
+/// Lattice points of spacing `dx` in the box `[min, max]` (an upper bound, as a real so that
+/// absurd sizes do not overflow).
+fn lattice_points(min: &[Real], max: &[Real], dx: Real, pad: Real) -> Real {
+    min.iter()
+        .zip(max)
+        .map(|(a, b)| ((b - a) / dx).ceil() + 2.0 * pad)
+        .product()
+}
+
 fn boxed(field: &str, min: &[Real], max: &[Real], dimension: usize) -> Result<(), SceneError> {
     point(&format!("{field}.min"), min, dimension)?;
     point(&format!("{field}.max"), max, dimension)?;
@@ -93,6 +133,23 @@ impl Scene {
     /// field's path, the allowed range and the value.
     pub fn validate(&self) -> Result<(), SceneError> {
         let dimension = self.dimension;
+        let name_ok = !self.name.is_empty()
+            && self.name.len() <= MAX_NAME_LENGTH
+            && !self.name.starts_with('.')
+            && self
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+        if !name_ok {
+            return Err(fail(
+                "name",
+                format!(
+                    "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.' (not first), \
+                     as it names output files; got {:?}",
+                    self.name
+                ),
+            ));
+        }
         if dimension != 2 && dimension != 3 {
             return Err(fail(
                 "dimension",
@@ -111,6 +168,24 @@ impl Scene {
         positive("end_time", self.end_time)?;
         positive("output.interval", self.output.interval)?;
         positive("output.sample_interval", self.output.sample_interval)?;
+        for (field, interval, most) in [
+            ("output.interval", self.output.interval, MAX_FRAMES),
+            (
+                "output.sample_interval",
+                self.output.sample_interval,
+                MAX_SAMPLES,
+            ),
+        ] {
+            if self.end_time / interval > most {
+                return Err(fail(
+                    field,
+                    format!(
+                        "must be at least end_time / {most:.0} = {:e} s (at most {most:.0} events), got {interval}",
+                        self.end_time / most
+                    ),
+                ));
+            }
+        }
         if let Some(domain) = &self.domain {
             boxed("domain", &domain.min, &domain.max, dimension)?;
             if !domain.periodic.is_empty() && domain.periodic.len() != dimension {
@@ -148,6 +223,16 @@ impl Scene {
                             format!("needs at least 2 points, got {}", points.len()),
                         ));
                     }
+                    finite_pairs(&format!("{field}.points"), points)?;
+                    if let Some(k) = points.windows(2).position(|pair| pair[0] == pair[1]) {
+                        return Err(fail(
+                            format!("{field}.points[{}]", k + 1),
+                            format!(
+                                "repeats the point before it, {:?}: consecutive points must differ",
+                                points[k]
+                            ),
+                        ));
+                    }
                     *layers
                 }
             };
@@ -160,12 +245,86 @@ impl Scene {
                 ));
             }
         }
+        let particles = self.estimated_particles();
+        if particles > MAX_PARTICLES {
+            return Err(fail(
+                "dx",
+                format!(
+                    "{} m would make about {particles:.3e} particles, more than {MAX_PARTICLES:.0e}: \
+                     increase dx (is it in metres?) or shrink the regions",
+                    self.dx
+                ),
+            ));
+        }
+        for (index, wall) in self.walls.iter().enumerate() {
+            if let WallSpec::Tank {
+                min, max, layers, ..
+            } = wall
+            {
+                let cells = lattice_points(min, max, self.dx, *layers as Real);
+                if cells > MAX_TANK_CELLS {
+                    return Err(fail(
+                        format!("walls[{index}]"),
+                        format!(
+                            "the tank spans {cells:.3e} lattice cells at dx = {}, more than {MAX_TANK_CELLS:.0e}: \
+                             increase dx or shrink the tank",
+                            self.dx
+                        ),
+                    ));
+                }
+            }
+        }
         match &self.solver {
             SolverSpec::Wcsph(config) => validate_wcsph(config),
             SolverSpec::Soil(config) => config
                 .validate()
                 .map_err(|error| fail(format!("solver.{}", error.field), error.message)),
+            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
+                validate_incompressible(config)
+            }
         }
+    }
+
+    /// An upper estimate of the particles (fluid and wall) the scene makes, from the size of
+    /// its regions and dx, without making them. Meaningful for scenes whose coordinates and dx
+    /// are finite and positive; may be infinite for absurd ones.
+    pub fn estimated_particles(&self) -> Real {
+        let dx = self.dx;
+        let mut count = 0.0;
+        if let Some(fluid) = &self.fluid {
+            for block in &fluid.blocks {
+                count += match block {
+                    Region::Box { min, max } => lattice_points(min, max, dx, 0.0),
+                    Region::Polygon { vertices } => {
+                        let (xs, ys): (Vec<Real>, Vec<Real>) = vertices.iter().copied().unzip();
+                        let extent = |v: &[Real]| {
+                            let low = v.iter().copied().fold(Real::INFINITY, Real::min);
+                            let high = v.iter().copied().fold(Real::NEG_INFINITY, Real::max);
+                            if v.is_empty() { 0.0 } else { high - low }
+                        };
+                        ((extent(&xs) / dx).ceil() + 1.0) * ((extent(&ys) / dx).ceil() + 1.0)
+                    }
+                };
+            }
+        }
+        for wall in &self.walls {
+            count += match wall {
+                WallSpec::Tank {
+                    min, max, layers, ..
+                } => {
+                    lattice_points(min, max, dx, *layers as Real)
+                        - lattice_points(min, max, dx, 0.0)
+                }
+                WallSpec::Polyline { points, layers, .. } => {
+                    let length: Real = points
+                        .windows(2)
+                        .map(|pair| (pair[1].0 - pair[0].0).hypot(pair[1].1 - pair[0].1))
+                        .sum();
+                    (length / dx + points.len() as Real) * *layers as Real
+                }
+            };
+        }
+        count
     }
 
     fn validate_fluid(&self, fluid: &FluidSpec) -> Result<(), SceneError> {
@@ -187,6 +346,7 @@ impl Scene {
                             format!("needs at least 3 vertices, got {}", vertices.len()),
                         ));
                     }
+                    finite_pairs(&format!("{field}.vertices"), vertices)?;
                 }
             }
         }
@@ -207,27 +367,64 @@ fn validate_wcsph(config: &WcsphConfig) -> Result<(), SceneError> {
             in_range("solver.diffusion.delta", delta, 0.0, 1.0)?
         }
     }
-    match config.viscosity {
-        ViscosityConfig::None => {}
-        ViscosityConfig::Artificial { alpha, beta } => {
-            in_range("solver.viscosity.alpha", alpha, 0.0, 1.0)?;
-            in_range("solver.viscosity.beta", beta, 0.0, 2.0)?;
-        }
-        ViscosityConfig::Laminar {
-            kinematic_viscosity,
-        } => positive("solver.viscosity.kinematic_viscosity", kinematic_viscosity)?,
-    }
+    validate_viscosity(config.viscosity)?;
     in_range("solver.xsph", config.xsph, 0.0, 1.0)?;
+    in_range("solver.neighbour_skin", config.neighbour_skin, 0.0, 1.0)?;
     // Explicit schemes are stable up to C ≈ 0.4 on the acoustic limit (Monaghan 1992); 0.5 is
     // the most we accept.
     if !(config.cfl.is_finite() && config.cfl > 0.0 && config.cfl <= 0.5) {
         return Err(fail(
             "solver.cfl",
             format!(
-                "must lie in (0, 0.5] for explicit integration, got {}",
-                config.cfl
+                "must lie in (0, 0.5] for the explicit {:?} integrator, got {}",
+                config.integrator, config.cfl
             ),
         ));
     }
     Ok(())
+}
+
+fn validate_viscosity(viscosity: ViscosityConfig) -> Result<(), SceneError> {
+    match viscosity {
+        ViscosityConfig::None => Ok(()),
+        ViscosityConfig::Artificial { alpha, beta } => {
+            in_range("solver.viscosity.alpha", alpha, 0.0, 1.0)?;
+            in_range("solver.viscosity.beta", beta, 0.0, 2.0)
+        }
+        ViscosityConfig::Laminar {
+            kinematic_viscosity,
+        } => positive("solver.viscosity.kinematic_viscosity", kinematic_viscosity),
+    }
+}
+
+fn validate_incompressible(config: &IncompressibleConfig) -> Result<(), SceneError> {
+    in_range(
+        "solver.target_density_error",
+        config.target_density_error,
+        1e-6,
+        0.1,
+    )?;
+    in_range(
+        "solver.target_divergence_error",
+        config.target_divergence_error,
+        1e-6,
+        0.1,
+    )?;
+    if config.max_iterations == 0 || config.max_iterations < config.min_iterations {
+        return Err(fail(
+            "solver.max_iterations",
+            format!(
+                "must be at least 1 and at least min_iterations = {}, got {}",
+                config.min_iterations, config.max_iterations
+            ),
+        ));
+    }
+    // A particle must not cross more than one spacing per step, or pairs enter the support
+    // unseen by the pressure solve.
+    in_range("solver.cfl", config.cfl, 1e-3, 1.0)?;
+    if let Some(dt) = config.max_time_step {
+        positive("solver.max_time_step", dt)?;
+    }
+    in_range("solver.relaxation", config.relaxation, 0.05, 1.0)?;
+    validate_viscosity(config.viscosity)
 }

@@ -83,7 +83,11 @@ impl GeostaticConfig {
         check("max_time", self.max_time, self.max_time > 0.0, "(0, inf)")?;
         for (k, release) in self.release.iter().enumerate() {
             if release.min.len() != release.max.len()
-                || release.min.iter().zip(&release.max).any(|(a, b)| !(a < b))
+                || release
+                    .min
+                    .iter()
+                    .zip(&release.max)
+                    .any(|(a, b)| a.partial_cmp(b) != Some(std::cmp::Ordering::Less))
             {
                 return Err(ConfigError {
                     field: format!("geostatic.release[{k}]"),

@@ -595,7 +595,7 @@ mod tests {
         let pull = -push;
         assert_eq!(
             coulomb_friction(&n, &pull, &fast, &a, 0.5, 1e-3),
-            Vector::zeros()
+            Vector::<2>::zeros()
         );
     }
 }

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Accuracy against run time of the four fluid solvers on the default dam break
+# (docs/performance.md, "Incompressible solvers"). Run on an idle machine:
+#   bash benches/scripts/dam-break-solvers.sh [dx ...]   (default: 0.02 0.015)
+# Prints one Markdown table row per run.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+cargo build --release -q -p dam-break
+out=$(mktemp -d)
+resolutions=("$@")
+[ ${#resolutions[@]} -eq 0 ] && resolutions=(0.02 0.015)
+echo "| dx (m) | solver | target | steps | wall s per simulated s | mean iterations | mean compression % | max compression % | ΔZ at T = 2 | ΔZ at T = 3 | front RMS ΔZ | height RMS ΔH |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+for dx in "${resolutions[@]}"; do
+    for run in "wcsph -" "pcisph 0.01" "pcisph 0.001" "iisph 0.01" "iisph 0.001" "dfsph 0.01" "dfsph 0.001"; do
+        read -r solver target <<<"$run"
+        args=(--solver "$solver" --dx "$dx" --no-vtk --quiet --out "$out/$solver-$target-$dx")
+        [ "$target" != "-" ] && args+=(--target-error "$target")
+        log=$(./target/release/dam-break "${args[@]}" 2>&1) || { echo "| $dx | $solver | $target | failed: $(echo "$log" | tail -1) |"; continue; }
+        python3 - "$dx" "$solver" "$target" <<PY
+import re, sys
+log = """$log"""
+dx, solver, target = sys.argv[1:]
+def grab(pattern):
+    m = re.search(pattern, log)
+    return m.group(1) if m else "-"
+steps = grab(r"steps\s+(\d+) to t")
+t_end = float(grab(r"to t = ([0-9.]+) s"))
+wall = float(grab(r"wall time\s+([0-9.]+) s"))
+iters = grab(r"iterations\s+([0-9.]+) per step")
+div = grab(r"divergence solve ([0-9.]+)\)")
+if div not in ("-", "0.0"):
+    iters = f"{iters} + {div}"
+mean = grab(r"density error\s+mean ([0-9.]+) %")
+mx = grab(r"max ([0-9.]+) %")
+z2 = grab(r"front at T = 2\s+ΔZ = ([-+0-9.]+)")
+z3 = grab(r"front at T = 3\s+ΔZ = ([-+0-9.]+)")
+zr = grab(r"RMS ΔZ = ([0-9.]+)")
+hr = grab(r"RMS ΔH = ([0-9.]+)")
+target = "-" if target == "-" else f"{100*float(target):g} %"
+print(f"| {dx} | {solver} | {target} | {steps} | {wall/t_end:.1f} | {iters} | {mean} | {mx} | {z2} | {z3} | {zr} | {hr} |")
+PY
+    done
+done
+rm -rf "$out"

@@ -1,0 +1,213 @@
+//! Divergence-free SPH (Bender & Koschier 2015, 2017).
+
+use geosph_core::{Particles, Permutation, Real};
+use geosph_kernels::Kernel;
+use rayon::prelude::*;
+
+use super::iisph::set_pressure_term;
+use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
+use crate::viscosity::Viscosity;
+
+/// DFSPH: two velocity-space solvers that share the per-particle factor α_i = ρ_i / d_i
+/// (Bender & Koschier 2017, IEEE TVCG 23:1193, eq. 9, with d_i of
+/// [`PressureSystem::diagonal`]), computed once per step with the neighbour lists.
+///
+/// - **Constant density** (ibid., Algorithm 3): while the average of the predicted
+///   compression max(ρ_i + Δt Σ_j m_j (v_i − v_j)·∇_i W_ij − ρ₀, 0) exceeds the target, each
+///   particle takes the pressure increment δp_i = (ρ*_i − ρ₀) ρ_i² / (Δt² d_i) (the stiffness
+///   κ_i = δp_i/ρ_i of the paper) and the velocities change by Δt a^p(δp).
+/// - **Divergence-free** (ibid., Algorithm 2), after the positions and lists are updated: the
+///   same with the density rate max(Σ_j m_j (v_i − v_j)·∇_i W_ij, 0) and
+///   δp_i = (Dρ_i/Dt) ρ_i² / (Δt d_i), until Δt times its average is below the target.
+///
+/// Both start from half the previous step's summed pressures (warm start, ibid., §4.4, with the
+/// factor ½ of [`Iisph`](super::Iisph): see `WARM_START`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dfsph {
+    /// Run the divergence-free solve (default true).
+    pub divergence_solve: bool,
+    /// Target of the divergence solve: average of Δt Dρ/Dt / ρ₀ (default 0.001).
+    pub target_divergence_error: Real,
+    /// Summed pressure increments of the last divergence solve (its warm start).
+    divergence_pressure: Vec<Real>,
+    /// Increments of the current iteration.
+    increment: Vec<Real>,
+}
+
+impl Dfsph {
+    /// DFSPH with or without the divergence-free solve and its target.
+    pub fn new(divergence_solve: bool, target_divergence_error: Real) -> Self {
+        Self {
+            divergence_solve,
+            target_divergence_error,
+            divergence_pressure: Vec::new(),
+            increment: Vec::new(),
+        }
+    }
+}
+
+impl Default for Dfsph {
+    fn default() -> Self {
+        Self::new(true, 1e-3)
+    }
+}
+
+/// Factor on the previous step's summed pressure as the initial guess. Increments are never
+/// negative (the residual is clamped at zero), so a full warm start could never relax a
+/// pressure that is no longer needed: it would push particles apart at every step. Half of it,
+/// as IISPH's warm start, decays such a pressure geometrically and costs a few iterations
+/// where the pressure is steady.
+const WARM_START: Real = 0.5;
+
+/// Which residual a DFSPH solve drives to zero.
+#[derive(Clone, Copy)]
+enum Residual {
+    /// ρ + Δt Dρ/Dt − ρ₀ (the increment is divided by Δt²).
+    Density,
+    /// Dρ/Dt (the increment is divided by Δt).
+    Divergence,
+}
+
+impl Dfsph {
+    /// One DFSPH solve: warm start with `summed`, then iterate; `summed` ends holding the sum
+    /// of all increments.
+    #[allow(clippy::too_many_arguments)]
+    fn solve<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
+        system: &PressureSystem<D, K, V>,
+        fluid: &mut Particles<D>,
+        dt: Real,
+        kind: Residual,
+        target: Real,
+        settings: &PressureSolveSettings,
+        scratch: &mut Scratch<D>,
+        summed: &mut [Real],
+        increment: &mut [Real],
+    ) -> SolveReport {
+        let rho0 = system.rest_density;
+        let diagonal = system.diagonal();
+        let Particles {
+            velocity,
+            mass,
+            density,
+            ..
+        } = fluid;
+        let Scratch {
+            acceleration,
+            pressure_term,
+            divergence,
+            residual,
+        } = scratch;
+        let mut apply = |pressure: &[Real], velocity: &mut Vec<_>| {
+            set_pressure_term(pressure, density, pressure_term);
+            system.pressure_acceleration(mass, pressure_term, acceleration);
+            velocity
+                .par_iter_mut()
+                .zip(acceleration.par_iter())
+                .for_each(|(v, a)| *v += a * dt);
+        };
+        summed.par_iter_mut().for_each(|p| *p *= WARM_START);
+        apply(summed, velocity);
+        let (scale, error_scale) = match kind {
+            Residual::Density => (1.0 / (dt * dt), 1.0 / rho0),
+            Residual::Divergence => (1.0 / dt, dt / rho0),
+        };
+        let mut report = SolveReport::default();
+        while report.iterations < settings.max_iterations {
+            system.divergence(mass, velocity, &system.walls.velocity, divergence);
+            residual
+                .par_iter_mut()
+                .zip(increment.par_iter_mut())
+                .zip(divergence.par_iter())
+                .enumerate()
+                .for_each(|(i, ((r, dp), div))| {
+                    let rho_i = density[i];
+                    *r = match kind {
+                        Residual::Density => rho_i + dt * div - rho0,
+                        Residual::Divergence => *div,
+                    }
+                    .max(0.0);
+                    *dp = if diagonal[i] > 0.0 {
+                        *r * scale * rho_i * rho_i / diagonal[i]
+                    } else {
+                        0.0
+                    };
+                });
+            report.error = super::mean_positive(residual) * error_scale;
+            if report.iterations >= settings.min_iterations && report.error <= target {
+                break;
+            }
+            report.iterations += 1;
+            summed
+                .par_iter_mut()
+                .zip(increment.par_iter())
+                .for_each(|(p, dp)| *p += dp);
+            apply(increment, velocity);
+        }
+        report
+    }
+}
+
+impl<const D: usize> PressureMethod<D> for Dfsph {
+    const NAME: &'static str = "dfsph";
+
+    fn correct_density<K: Kernel<D>, V: Viscosity<D>>(
+        &mut self,
+        system: &PressureSystem<D, K, V>,
+        fluid: &mut Particles<D>,
+        dt: Real,
+        settings: &PressureSolveSettings,
+        scratch: &mut Scratch<D>,
+    ) -> SolveReport {
+        self.increment.resize(fluid.len(), 0.0);
+        let mut summed = fluid.pressure.take().expect("pressure is enabled");
+        let report = Self::solve(
+            system,
+            fluid,
+            dt,
+            Residual::Density,
+            settings.target_density_error,
+            settings,
+            scratch,
+            &mut summed,
+            &mut self.increment,
+        );
+        fluid.pressure = Some(summed);
+        report
+    }
+
+    fn after_update<K: Kernel<D>, V: Viscosity<D>>(
+        &mut self,
+        system: &PressureSystem<D, K, V>,
+        fluid: &mut Particles<D>,
+        dt: Real,
+        settings: &PressureSolveSettings,
+        scratch: &mut Scratch<D>,
+    ) -> SolveReport {
+        if !self.divergence_solve {
+            return SolveReport::default();
+        }
+        self.increment.resize(fluid.len(), 0.0);
+        self.divergence_pressure.resize(fluid.len(), 0.0);
+        let settings = PressureSolveSettings {
+            min_iterations: 1,
+            ..*settings
+        };
+        Self::solve(
+            system,
+            fluid,
+            dt,
+            Residual::Divergence,
+            self.target_divergence_error,
+            &settings,
+            scratch,
+            &mut self.divergence_pressure,
+            &mut self.increment,
+        )
+    }
+
+    fn permute(&mut self, permutation: &Permutation) {
+        if self.divergence_pressure.len() == permutation.len() {
+            permutation.apply(&mut self.divergence_pressure);
+        }
+    }
+}

@@ -1,0 +1,309 @@
+//! Incompressible SPH: PCISPH, IISPH and DFSPH on one set of discrete operators.
+//!
+//! All three advance a step with the same skeleton (symplectic Euler, as in the papers):
+//!
+//! 1. known accelerations a* (gravity, viscosity, wall head) and the step Δt from the velocity
+//!    CFL, so the step does not depend on a sound speed;
+//! 2. v* = v + Δt a*;
+//! 3. a pressure solve that makes the density predicted from v*, ρ_i + Δt Σ_j m_j
+//!    (v*_i − v*_j)·∇_i W_ij, equal to ρ₀ within the target average error, and corrects v;
+//! 4. x ← x + Δt v, then the neighbour lists, summation densities and diagonals for the new
+//!    positions (and, for DFSPH, the divergence-free solve).
+//!
+//! They differ in step 3 only: how the pressure is updated from the density residual
+//! ([`Pcisph`], [`Iisph`], [`Dfsph`]). Pressures are clamped at zero, so free surfaces need no
+//! detection. The derivation of the shared system is in `docs/fluid.md`.
+
+mod dfsph;
+mod iisph;
+mod pairs;
+mod pcisph;
+mod system;
+
+pub use dfsph::Dfsph;
+pub use iisph::Iisph;
+pub use pcisph::Pcisph;
+pub use system::{PressureSystem, WallPressure, lattice_kernel_sum};
+
+use geosph_boundary::WallParticles;
+use geosph_core::{Particles, Permutation, Real, Vector};
+use geosph_kernels::Kernel;
+use geosph_neighbours::SearchError;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::solver::{FluidSolver, SolverError, StepReport, event_step};
+use crate::viscosity::Viscosity;
+
+/// Iteration controls and time-step rule shared by the incompressible solvers.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PressureSolveSettings {
+    /// Target average relative compression, mean of max(ρ/ρ₀ − 1, 0) (default 0.001 = 0.1 %).
+    pub target_density_error: Real,
+    /// Least iterations per step (default 2).
+    pub min_iterations: usize,
+    /// Most iterations per step (default 100); a step that reaches it is reported, not failed.
+    pub max_iterations: usize,
+    /// Courant number λ: no particle moves more than λ dx in a step (default 0.4).
+    pub cfl: Real,
+    /// Upper bound on the step in s (default 0.005 s, the default of SPlisHSPlasH; see
+    /// `docs/incompressible.md` for why a bound is needed).
+    pub max_time_step: Option<Real>,
+}
+
+impl Default for PressureSolveSettings {
+    fn default() -> Self {
+        Self {
+            target_density_error: 1e-3,
+            min_iterations: 2,
+            max_iterations: 100,
+            cfl: 0.4,
+            max_time_step: Some(0.005),
+        }
+    }
+}
+
+/// What a pressure solve did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolveReport {
+    /// Iterations of the solve.
+    pub iterations: usize,
+    /// Its last average error (relative compression, or for DFSPH's divergence solve Δt
+    /// times the relative density rate).
+    pub error: Real,
+}
+
+/// Per-particle work arrays of the pressure solves, owned by the solver and reused every step.
+#[derive(Clone, Debug, Default)]
+pub struct Scratch<const D: usize> {
+    /// Accelerations (known, or from pressure).
+    pub acceleration: Vec<Vector<D>>,
+    /// p/ρ² of a pressure (or pressure increment) field.
+    pub pressure_term: Vec<Real>,
+    /// A divergence Σ_j m_j (u_i − u_j)·∇_i W_ij.
+    pub divergence: Vec<Real>,
+    /// Per-particle residual or source.
+    pub residual: Vec<Real>,
+}
+
+impl<const D: usize> Scratch<D> {
+    fn resize(&mut self, n: usize) {
+        self.acceleration.resize(n, Vector::zeros());
+        self.pressure_term.resize(n, 0.0);
+        self.divergence.resize(n, 0.0);
+        self.residual.resize(n, 0.0);
+    }
+}
+
+/// The pressure solve that distinguishes PCISPH, IISPH and DFSPH.
+pub trait PressureMethod<const D: usize>: Send {
+    /// The method's name, e.g. "iisph".
+    const NAME: &'static str;
+
+    /// Corrects the predicted velocities in `fluid.velocity` (and sets `fluid.pressure`) so the
+    /// density predicted for the end of the step is ρ₀ within the target error.
+    fn correct_density<K: Kernel<D>, V: Viscosity<D>>(
+        &mut self,
+        system: &PressureSystem<D, K, V>,
+        fluid: &mut Particles<D>,
+        dt: Real,
+        settings: &PressureSolveSettings,
+        scratch: &mut Scratch<D>,
+    ) -> SolveReport;
+
+    /// Called after positions, lists and densities were updated (DFSPH's divergence solve).
+    fn after_update<K: Kernel<D>, V: Viscosity<D>>(
+        &mut self,
+        _system: &PressureSystem<D, K, V>,
+        _fluid: &mut Particles<D>,
+        _dt: Real,
+        _settings: &PressureSolveSettings,
+        _scratch: &mut Scratch<D>,
+    ) -> SolveReport {
+        SolveReport::default()
+    }
+
+    /// Reorders the method's own per-particle arrays.
+    fn permute(&mut self, _permutation: &Permutation) {}
+}
+
+/// An incompressible solver: the shared [`PressureSystem`] stepped with the pressure solve `M`.
+pub struct Incompressible<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> {
+    /// The discrete operators.
+    pub system: PressureSystem<D, K, V>,
+    /// The pressure solve.
+    pub method: M,
+    /// Iteration controls and time-step rule.
+    pub settings: PressureSolveSettings,
+    /// Particle spacing dx (for the CFL rule).
+    pub spacing: Real,
+    /// Steps between Z-order sorts (0: never).
+    pub reorder_every: usize,
+    scratch: Scratch<D>,
+    previous_velocity: Vec<Vector<D>>,
+    max_acceleration: Real,
+    steps: usize,
+}
+
+impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
+    Incompressible<D, K, V, M>
+{
+    /// A solver for `fluid`: sorts it, builds the lists and densities, creates its pressure.
+    pub fn new(
+        mut system: PressureSystem<D, K, V>,
+        method: M,
+        settings: PressureSolveSettings,
+        spacing: Real,
+        fluid: &mut Particles<D>,
+    ) -> Result<Self, SearchError> {
+        fluid.enable_pressure();
+        // Masses and wall volumes for which the initial lattice is at ρ₀ exactly.
+        let cell = 1.0 / system::lattice_kernel_sum(&system.kernel, spacing);
+        let scale = cell / spacing.powi(D as i32);
+        fluid.mass.iter_mut().for_each(|m| *m *= scale);
+        system.walls.volume.iter_mut().for_each(|v| *v *= scale);
+        let mut method = method;
+        let permutation = system.sort(fluid)?;
+        method.permute(&permutation);
+        system.update(fluid)?;
+        let mut scratch = Scratch::default();
+        scratch.resize(fluid.len());
+        Ok(Self {
+            max_acceleration: system.gravity.norm(),
+            system,
+            method,
+            settings,
+            spacing,
+            reorder_every: 100,
+            scratch,
+            previous_velocity: vec![Vector::zeros(); fluid.len()],
+            steps: 0,
+        })
+    }
+
+    /// The largest Δt for which no particle moves more than λ dx:
+    /// |v|max Δt + ½ |a|max Δt² = λ dx, bounded by the viscous limit ⅛ h²/ν and
+    /// `max_time_step`.
+    fn stable_step(&self, fluid: &Particles<D>) -> Real {
+        let reach = self.settings.cfl * self.spacing;
+        let speed = crate::solver::max_speed(&fluid.velocity);
+        let acceleration = self.max_acceleration;
+        let mut dt = if acceleration > 0.0 {
+            (-speed + (speed * speed + 2.0 * acceleration * reach).sqrt()) / acceleration
+        } else if speed > 0.0 {
+            reach / speed
+        } else {
+            Real::INFINITY
+        };
+        let nu = self.system.viscosity.kinematic_viscosity();
+        if nu > 0.0 {
+            let h = self.system.kernel.smoothing_length();
+            dt = dt.min(0.125 * h * h / nu);
+        }
+        if let Some(max) = self.settings.max_time_step {
+            dt = dt.min(max);
+        }
+        dt
+    }
+}
+
+impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> FluidSolver<D>
+    for Incompressible<D, K, V, M>
+{
+    fn name(&self) -> &'static str {
+        M::NAME
+    }
+
+    fn step(
+        &mut self,
+        fluid: &mut Particles<D>,
+        _time: Real,
+        max_dt: Real,
+    ) -> Result<StepReport, SolverError> {
+        let n = fluid.len();
+        self.scratch.resize(n);
+        self.previous_velocity.clone_from(&fluid.velocity);
+        let dt = event_step(self.stable_step(fluid), max_dt);
+
+        self.system
+            .non_pressure_acceleration(fluid, &mut self.scratch.acceleration);
+        fluid
+            .velocity
+            .par_iter_mut()
+            .zip(self.scratch.acceleration.par_iter())
+            .for_each(|(v, a)| *v += a * dt);
+        let density_solve =
+            self.method
+                .correct_density(&self.system, fluid, dt, &self.settings, &mut self.scratch);
+        fluid
+            .position
+            .par_iter_mut()
+            .zip(fluid.velocity.par_iter())
+            .for_each(|(x, v)| *x += v * dt);
+        // Largest |Δv|/Δt of this step, for the next step's limit (ordered, thread-independent).
+        self.max_acceleration = fluid
+            .velocity
+            .iter()
+            .zip(&self.previous_velocity)
+            .fold(self.system.gravity.norm(), |max: Real, (v, v0)| {
+                max.max((v - v0).norm() / dt)
+            });
+
+        self.steps += 1;
+        if self.reorder_every > 0 && self.steps % self.reorder_every == 0 {
+            if self.system.domain.is_periodic() {
+                let domain = &self.system.domain;
+                fluid.position.iter_mut().for_each(|x| domain.wrap(x));
+            }
+            let permutation = self.system.sort(fluid)?;
+            self.method.permute(&permutation);
+        }
+        self.system.update(fluid)?;
+        let divergence_solve =
+            self.method
+                .after_update(&self.system, fluid, dt, &self.settings, &mut self.scratch);
+        let (mean, max) = compression(&fluid.density, self.system.rest_density);
+        Ok(StepReport {
+            dt,
+            iterations: density_solve.iterations,
+            divergence_iterations: divergence_solve.iterations,
+            density_error_mean: mean,
+            density_error_max: max,
+        })
+    }
+
+    fn walls(&self) -> &WallParticles<D> {
+        &self.system.walls
+    }
+
+    fn sound_speed(&self) -> Real {
+        0.0
+    }
+
+    fn density_error(&self, density: Real) -> Real {
+        (density / self.system.rest_density - 1.0).max(0.0)
+    }
+
+    fn blow_up_advice(&self) -> &'static str {
+        "the pressure solve did not hold the density: lower `cfl`, set `max_time_step`, or raise `max_iterations`"
+    }
+}
+
+/// Mean and maximum of the relative compression max(ρ/ρ₀ − 1, 0), summed in index order.
+/// Only compression counts: particles at a free surface have an incomplete kernel sum and a
+/// smaller density, which is not an error of the pressure solve.
+pub fn compression(density: &[Real], rest_density: Real) -> (Real, Real) {
+    let (sum, max) = density
+        .iter()
+        .fold((0.0, 0.0), |(sum, max): (Real, Real), rho| {
+            let error = (rho / rest_density - 1.0).max(0.0);
+            (sum + error, max.max(error))
+        });
+    (sum / density.len().max(1) as Real, max)
+}
+
+/// Mean of the positive entries of `values`, summed in index order.
+pub(crate) fn mean_positive(values: &[Real]) -> Real {
+    values.iter().map(|&e| e.max(0.0)).sum::<Real>() / values.len().max(1) as Real
+}
