@@ -65,7 +65,11 @@ fn collapse(dx: Real, end_time: Real) -> Report {
 
 /// Bui et al. (2008) collapse at a coarse dx: the soil at the wall keeps its height (within
 /// 2 dx), a wedge slides off the free side (the front moves by more than 5 dx), and the deposit
-/// is at rest by t = 1 s (kinetic energy below 10⁻⁴ of its peak).
+/// is at rest from t = 0.7 s (the experiment stops by about 0.6 s): its front moves by less
+/// than dx/100 over the last 0.3 s, and the kinetic energy left is below 10⁻³ of its peak.
+///
+/// The residual kinetic energy is elastic ringing of the deposit (it fluctuates between 10⁻⁵
+/// and 4·10⁻⁴ J without trend at dx = 5 mm), so it bounds but does not define rest.
 #[test]
 fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
     let dx = 0.005;
@@ -77,8 +81,18 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
         "{report}"
     );
     assert!(report.last.front > column.length + 5.0 * dx, "{report}");
+    let settled = report
+        .samples
+        .iter()
+        .find(|s| s.time >= 0.7)
+        .expect("samples after t = 0.7 s");
+    let creep = (report.last.front - settled.front).abs();
     assert!(
-        report.last.kinetic_energy < 1e-4 * report.peak_kinetic_energy,
+        creep < 0.01 * dx,
+        "front moved {creep:.2e} m after t = 0.7 s\n{report}"
+    );
+    assert!(
+        report.last.kinetic_energy < 1e-3 * report.peak_kinetic_energy,
         "{report}"
     );
 }
