@@ -169,8 +169,8 @@ mod tests {
         assert_eq!(fluid.bytes_per_particle(), 32 + 16 + 4 + 8);
         let mut soil = line(10);
         soil.enable_soil();
-        // no pressure; stress and strain (2 × 72) + plastic strain (8)
-        assert_eq!(soil.bytes_per_particle(), 52 + 2 * 72 + 8);
+        // no pressure; stress and strain (2 × 72) + plastic strain (8) + displacement (24)
+        assert_eq!(soil.bytes_per_particle(), 52 + 2 * 72 + 8 + 24);
     }
 
     #[test]
