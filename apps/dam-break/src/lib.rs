@@ -14,7 +14,7 @@ use std::path::Path;
 
 use geosph_core::{Particles, Real};
 use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
-use geosph_runner::{Observer, RunOptions, Summary};
+use geosph_runner::{Observer, RunOptions, Summary, push_records, take_records};
 use geosph_scene::{Region, Scene};
 
 pub use reference::{ReferenceCurve, martin_moyce_column_height, martin_moyce_front};
@@ -157,6 +157,25 @@ impl<const D: usize> Observer<D> for FrontTracker {
             front,
             height,
         });
+    }
+
+    fn save_state(&self) -> Vec<Real> {
+        let mut state = Vec::new();
+        let records = self.samples.iter().map(|s| [s.time, s.front, s.height]);
+        push_records(&mut state, records);
+        state
+    }
+
+    fn restore_state(&mut self, mut state: &[Real]) -> Result<(), String> {
+        self.samples = take_records(&mut state)?
+            .into_iter()
+            .map(|[time, front, height]| Sample {
+                time,
+                front,
+                height,
+            })
+            .collect();
+        Ok(())
     }
 }
 

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use geosph_runner::RunOptions;
+use geosph_runner::{CheckpointEvery, RunError, RunOptions, interrupt};
 use geosph_scene::{Scene, SolverSpec};
 
 /// Dam break with SPH, compared with the experiments of Martin & Moyce (1952).
@@ -15,9 +15,9 @@ struct Cli {
     /// Scene file (RON); default: the embedded 2D scene, a 1 m × 2 m column in a 4 m × 4 m tank.
     #[arg(long)]
     scene: Option<PathBuf>,
-    /// Output folder.
-    #[arg(long, default_value = "out/dam-break")]
-    out: PathBuf,
+    /// Output folder [default: out/dam-break, or with --restart the checkpoint's folder].
+    #[arg(long)]
+    out: Option<PathBuf>,
     /// Particle spacing in m (overrides the scene).
     #[arg(long)]
     dx: Option<f64>,
@@ -40,6 +40,30 @@ struct Cli {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+    /// Write the complete state to `checkpoint.bin` in the output folder (replacing the
+    /// previous one) at this interval: a bare number is simulated seconds (`0.5`), a number
+    /// with a unit is wall-clock time (`30s`, `10min`, `2h`). Ctrl-C always writes one, with
+    /// the current frame as `interrupted.vtu`, and exits with status 130.
+    #[arg(long, value_name = "INTERVAL")]
+    checkpoint_every: Option<CheckpointEvery>,
+    /// Continue the run saved in this checkpoint, into its output folder; give the same scene
+    /// and overrides. The frames and the `.pvd` continue bitwise as if never stopped.
+    #[arg(long, value_name = "FILE")]
+    restart: Option<PathBuf>,
+}
+
+impl Cli {
+    /// The output folder: `--out`, else the restart file's folder, else the default.
+    fn out(&self) -> PathBuf {
+        match (&self.out, &self.restart) {
+            (Some(out), _) => out.clone(),
+            (None, Some(restart)) => restart
+                .parent()
+                .filter(|dir| !dir.as_os_str().is_empty())
+                .map_or_else(|| PathBuf::from("."), PathBuf::from),
+            (None, None) => PathBuf::from("out/dam-break"),
+        }
+    }
 }
 
 fn load(cli: &Cli) -> Result<Scene, String> {
@@ -78,8 +102,8 @@ fn load(cli: &Cli) -> Result<Scene, String> {
     }
     // Everything a user can get wrong is reported here, before any output or banner.
     scene.validate().map_err(|error| error.to_string())?;
-    geosph_runner::output::check_folder(&cli.out)
-        .map_err(|reason| format!("output folder `{}`: {reason}", cli.out.display()))?;
+    geosph_runner::output::check_folder(&cli.out())
+        .map_err(|reason| format!("output folder `{}`: {reason}", out.display()))?;
     Ok(scene)
 }
 
@@ -92,11 +116,22 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    let interrupt = match interrupt::on_ctrl_c() {
+        Ok(flag) => flag,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let out = cli.out();
     let options = RunOptions {
-        out_dir: Some(cli.out.clone()),
+        out_dir: Some(out.clone()),
         vtk: cli.no_vtk.then_some(false),
         threads: cli.threads,
         progress: !cli.quiet,
+        checkpoint_every: cli.checkpoint_every,
+        restart: cli.restart.clone(),
+        interrupt: Some(interrupt),
     };
     eprintln!(
         "dam-break: {} ({}D, dx = {} m, to t = {} s) -> {}",
@@ -104,7 +139,7 @@ fn main() -> ExitCode {
         scene.dimension,
         scene.dx,
         scene.end_time,
-        cli.out.display()
+        out.display()
     );
     match dam_break::run(&scene, &options) {
         Ok(report) => {
@@ -114,10 +149,14 @@ fn main() -> ExitCode {
             }
             println!(
                 "output             {} (open {}.pvd in ParaView; front.png, height.png, front.csv)",
-                cli.out.display(),
+                out.display(),
                 scene.name
             );
             ExitCode::SUCCESS
+        }
+        Err(dam_break::Error::Run(error @ RunError::Interrupted { .. })) => {
+            eprintln!("dam-break: {error}");
+            ExitCode::from(interrupt::EXIT_INTERRUPTED)
         }
         Err(error) => {
             eprintln!("error: {error}");

@@ -78,3 +78,58 @@ fn careless_command_lines_fail_with_one_line() {
     }
     std::fs::remove_dir_all(folder).unwrap();
 }
+
+/// Ctrl-C writes a checkpoint and the current frame and exits with 130; `--restart` finishes
+/// the run into the same folder, whose `.pvd` then lists every frame once.
+#[test]
+fn ctrl_c_saves_a_checkpoint_and_restart_finishes_the_run() {
+    let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("dam-break-cli-interrupt");
+    let _ = std::fs::remove_dir_all(&folder);
+    let out = folder.join("out");
+    let common = [
+        "--dx",
+        "0.02",
+        "--end-time",
+        "0.5",
+        "--quiet",
+        "--threads",
+        "2",
+    ];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dam-break"))
+        .args(common)
+        .args(["--out", text(&out)])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Interrupt once the frame at t = 0.05 s is written (of 11 frames to t = 0.5 s).
+    let second_frame = out.join("frames/dam-break-2d_000001.vtu");
+    let started = std::time::Instant::now();
+    while !second_frame.exists() && started.elapsed().as_secs() < 120 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    let checkpoint = out.join("checkpoint.bin");
+    assert!(
+        stderr.contains(&format!("--restart {}", checkpoint.display())),
+        "{stderr}"
+    );
+    assert!(checkpoint.is_file() && out.join("interrupted.vtu").is_file());
+
+    let (code, stderr) = dam_break(&[&common[..], &["--restart", text(&checkpoint)]].concat());
+    assert_eq!(code, Some(0), "{stderr}");
+    let pvd = std::fs::read_to_string(out.join("dam-break-2d.pvd")).unwrap();
+    for frame in 0..=10 {
+        let file = format!("file=\"frames/dam-break-2d_{frame:06}.vtu\"");
+        assert_eq!(pvd.matches(&file).count(), 1, "{file} in\n{pvd}");
+    }
+    assert_eq!(pvd.matches("<DataSet").count(), 11, "{pvd}");
+    std::fs::remove_dir_all(folder).unwrap();
+}

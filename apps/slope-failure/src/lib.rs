@@ -11,7 +11,7 @@ use std::path::Path;
 
 use geosph_core::{Particles, Real};
 use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
-use geosph_runner::{Observer, RunOptions, Summary};
+use geosph_runner::{Observer, RunOptions, Summary, push_records, take_records};
 use geosph_scene::{Region, Scene};
 
 /// The embedded default scene (`data/scenes/granular-collapse.ron`).
@@ -183,6 +183,39 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         if self.initial.is_empty() {
             self.initial.clone_from(&self.latest);
         }
+    }
+
+    fn save_state(&self) -> Vec<Real> {
+        let mut state = Vec::new();
+        let samples = self.samples.iter();
+        push_records(
+            &mut state,
+            samples.map(|s| [s.time, s.front, s.height_at_wall, s.kinetic_energy]),
+        );
+        push_records(&mut state, self.initial.iter().map(|&(x, y)| [x, y]));
+        push_records(&mut state, self.latest.iter().map(|&(x, y)| [x, y]));
+        state
+    }
+
+    fn restore_state(&mut self, mut state: &[Real]) -> Result<(), String> {
+        self.samples = take_records(&mut state)?
+            .into_iter()
+            .map(|[time, front, height_at_wall, kinetic_energy]| Sample {
+                time,
+                front,
+                height_at_wall,
+                kinetic_energy,
+            })
+            .collect();
+        let points = |state: &mut &[Real]| -> Result<Vec<(Real, Real)>, String> {
+            Ok(take_records(state)?
+                .into_iter()
+                .map(|[x, y]| (x, y))
+                .collect())
+        };
+        self.initial = points(&mut state)?;
+        self.latest = points(&mut state)?;
+        Ok(())
     }
 }
 

@@ -9,6 +9,7 @@
 //!   continuity or summation density, XSPH, Shepard re-initialisation, Adami walls.
 //! - [`incompressible`]: PCISPH, IISPH and DFSPH on shared operators ([`incompressible::PressureSystem`]).
 //! - [`solver`]: the [`FluidSolver`] trait the runner steps, and [`Wcsph`].
+//! - [`state`]: [`SolverState`], what a solver saves in a checkpoint to continue bitwise.
 //! - [`config`]: scene-level configuration ([`WcsphConfig`]) and [`build_wcsph`], which
 //!   resolves every option to a type once, so the hot loops carry no option flags.
 //!
@@ -55,6 +56,7 @@ pub mod diffusion;
 pub mod eos;
 pub mod incompressible;
 pub mod solver;
+pub mod state;
 pub mod viscosity;
 pub mod wcsph;
 
@@ -64,4 +66,5 @@ pub use config::{
 };
 pub use eos::{EosKind, EquationOfState};
 pub use solver::{FluidSolver, SolverError, StepReport, Wcsph};
+pub use state::{SolverState, StateArrays, StateError};
 pub use wcsph::WcsphSystem;

@@ -4,9 +4,10 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
-use geosph_time::{Integrator, StepLimits, time_step};
+use geosph_time::{Integrator, Rates, StepLimits, time_step};
 
 use crate::diffusion::DensityDiffusion;
+use crate::state::{SolverState, StateError};
 use crate::viscosity::Viscosity;
 use crate::wcsph::WcsphSystem;
 
@@ -31,6 +32,9 @@ pub enum SolverError {
     /// The neighbour search failed, e.g. a particle left the domain.
     #[error("{0}{hint}", hint = search_hint(.0))]
     Search(#[from] SearchError),
+    /// A saved state does not fit this solver (a restart from another scene's checkpoint).
+    #[error(transparent)]
+    State(#[from] StateError),
 }
 
 /// What a user can do about a failed search.
@@ -70,6 +74,19 @@ pub trait FluidSolver<const D: usize>: Send {
 
     /// What a user can change when the density error runs away.
     fn blow_up_advice(&self) -> &'static str;
+
+    /// Everything the next step depends on besides the particles (step count, cached rates,
+    /// neighbour-list positions, warm-start data), for a checkpoint.
+    fn save_state(&self) -> SolverState;
+
+    /// Continues from `state`, saved by [`FluidSolver::save_state`] of a solver built from the
+    /// same scene, with `fluid` already set to the particles saved with it; the next step is
+    /// then bitwise the step the saving run took next.
+    fn restore_state(
+        &mut self,
+        state: SolverState,
+        fluid: &mut Particles<D>,
+    ) -> Result<(), SolverError>;
 }
 
 /// Mean and maximum of |ρ/ρ₀ − 1|, summed in index order so they do not depend on the number
@@ -205,6 +222,56 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
 
     fn blow_up_advice(&self) -> &'static str {
         "the sound speed is too low or the time step too large (lower `cfl`)"
+    }
+
+    fn save_state(&self) -> SolverState {
+        let mut state = SolverState::new(self.name(), self.steps);
+        let (arrays, rates) = (&mut state.arrays, self.integrator.rates());
+        arrays.push(
+            "rates_current",
+            &[Real::from(self.integrator.rates_current())],
+        );
+        arrays.push_matrices("acceleration", &rates.acceleration);
+        arrays.push("density_rate", &rates.density_rate);
+        arrays.push_matrices("position_correction", &rates.position_correction);
+        if let Some(stress_rate) = &rates.stress_rate {
+            arrays.push_matrices("stress_rate", stress_rate);
+        }
+        if let Some(listed) = self.system.listed_positions() {
+            arrays.push_matrices("listed_position", listed);
+        }
+        state
+    }
+
+    fn restore_state(
+        &mut self,
+        mut state: SolverState,
+        fluid: &mut Particles<D>,
+    ) -> Result<(), SolverError> {
+        let steps = state.steps_of(self.name())?;
+        let arrays = &mut state.arrays;
+        let n = fluid.len();
+        let current = arrays.take_value("rates_current")? != 0.0;
+        let rates = Rates {
+            acceleration: arrays.take_matrices("acceleration", n)?,
+            density_rate: arrays
+                .take_matrices::<1, 1>("density_rate", n)?
+                .iter()
+                .map(|m| m[(0, 0)])
+                .collect(),
+            position_correction: arrays.take_matrices("position_correction", n)?,
+            stress_rate: match arrays.contains("stress_rate") {
+                true => Some(arrays.take_matrices("stress_rate", n)?),
+                false => None,
+            },
+        };
+        self.integrator.restore_rates(rates, current);
+        if arrays.contains("listed_position") {
+            let listed = arrays.take_matrices("listed_position", n)?;
+            self.system.rebuild_lists_at(listed)?;
+        }
+        self.steps = steps;
+        Ok(())
     }
 }
 

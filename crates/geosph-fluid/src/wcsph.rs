@@ -144,6 +144,34 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
         self.list_builds
     }
 
+    /// The positions the neighbour lists were built at, while they are valid (a checkpoint
+    /// saves them: the lists' neighbour order decides the summation order).
+    pub fn listed_positions(&self) -> Option<&[Vector<D>]> {
+        self.lists_valid.then_some(self.listed_position.as_slice())
+    }
+
+    /// Builds the neighbour lists at `listed`, positions saved from
+    /// [`WcsphSystem::listed_positions`], so they are those of the saved run (a restart).
+    pub fn rebuild_lists_at(&mut self, listed: Vec<Vector<D>>) -> Result<(), SearchError> {
+        self.build_lists(&listed)?;
+        self.listed_position = listed;
+        Ok(())
+    }
+
+    /// Builds the grid and the three neighbour lists at `position`.
+    fn build_lists(&mut self, position: &[Vector<D>]) -> Result<(), SearchError> {
+        self.fluid_grid.build(position)?;
+        self.fluid_grid
+            .neighbour_list(position, position, &mut self.fluid_fluid);
+        self.wall_grid
+            .neighbour_list(&self.walls.position, position, &mut self.fluid_wall);
+        self.fluid_grid
+            .neighbour_list(position, &self.walls.position, &mut self.wall_fluid);
+        self.lists_valid = true;
+        self.list_builds += 1;
+        Ok(())
+    }
+
     /// Whether a particle moved more than half the skin since the lists were built.
     fn lists_stale(&self, position: &[Vector<D>]) -> bool {
         if !self.lists_valid || self.listed_position.len() != position.len() {
@@ -253,22 +281,8 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
             fluid.position.par_iter_mut().for_each(|x| domain.wrap(x));
         }
         if self.lists_stale(&fluid.position) {
-            self.fluid_grid.build(&fluid.position)?;
-            self.fluid_grid
-                .neighbour_list(&fluid.position, &fluid.position, &mut self.fluid_fluid);
-            self.wall_grid.neighbour_list(
-                &self.walls.position,
-                &fluid.position,
-                &mut self.fluid_wall,
-            );
-            self.fluid_grid.neighbour_list(
-                &fluid.position,
-                &self.walls.position,
-                &mut self.wall_fluid,
-            );
+            self.build_lists(&fluid.position)?;
             self.listed_position.clone_from(&fluid.position);
-            self.lists_valid = true;
-            self.list_builds += 1;
         }
         let shepard = std::mem::take(&mut self.shepard_due);
         if shepard || self.density_mode == DensityMode::Summation {

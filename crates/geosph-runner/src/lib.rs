@@ -12,6 +12,8 @@
 //!   quantities (e.g. a dam-break front) at every sample time.
 //! - [`output`]: the run's output folder: frames, `.pvd`, CSV.
 //! - [`health`]: the blow-up checks.
+//! - [`interrupt`]: the Ctrl-C flag the loop checks once per step.
+//! - [`checkpoint`]: the complete state of a run in `checkpoint.bin`, for a bitwise restart.
 //! - [`run`](mod@run): the loop, [`RunOptions`], [`Summary`], [`RunError`].
 //!
 //! # Example
@@ -36,10 +38,13 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod checkpoint;
 pub mod health;
+pub mod interrupt;
 pub mod observer;
 pub mod output;
 pub mod run;
 
-pub use observer::{NoObserver, Observer};
+pub use checkpoint::CheckpointEvery;
+pub use observer::{NoObserver, Observer, push_records, take_records};
 pub use run::{RunError, RunOptions, Summary, run};

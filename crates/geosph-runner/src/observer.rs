@@ -10,6 +10,17 @@ pub trait Observer<const D: usize> {
 
     /// Appends one value per column to `row` for the fluid at `time`.
     fn sample(&mut self, time: Real, fluid: &Particles<D>, row: &mut Vec<Real>);
+
+    /// What the observer accumulated (e.g. its samples), saved in a checkpoint; default none.
+    fn save_state(&self) -> Vec<Real> {
+        Vec::new()
+    }
+
+    /// Continues from a state saved by [`Observer::save_state`] (a restart); a one-line
+    /// reason when it does not fit.
+    fn restore_state(&mut self, _state: &[Real]) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 /// An observer with no columns.
@@ -22,4 +33,28 @@ impl<const D: usize> Observer<D> for NoObserver {
     }
 
     fn sample(&mut self, _time: Real, _fluid: &Particles<D>, _row: &mut Vec<Real>) {}
+}
+
+/// Appends `records` of `N` values to an observer's saved state: their count, then the values.
+pub fn push_records<const N: usize>(
+    state: &mut Vec<Real>,
+    records: impl ExactSizeIterator<Item = [Real; N]>,
+) {
+    state.push(records.len() as Real);
+    for record in records {
+        state.extend_from_slice(&record);
+    }
+}
+
+/// Takes records of `N` values written by [`push_records`] from the front of `state`.
+pub fn take_records<const N: usize>(state: &mut &[Real]) -> Result<Vec<[Real; N]>, String> {
+    let short = || "the saved observer state is shorter than it says".to_owned();
+    let (&count, rest) = state.split_first().ok_or_else(short)?;
+    let count = count as usize;
+    let values = rest.get(..count * N).ok_or_else(short)?;
+    *state = &rest[count * N..];
+    Ok(values
+        .chunks_exact(N)
+        .map(|chunk| std::array::from_fn(|k| chunk[k]))
+        .collect())
 }

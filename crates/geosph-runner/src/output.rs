@@ -107,6 +107,55 @@ impl RunOutput {
         })
     }
 
+    /// Reopens the output of a run restarted from a checkpoint at `time` after `frames`
+    /// frames and `rows` CSV rows: the `.pvd` keeps the frames up to `time` (the later ones
+    /// are written again), `diagnostics.csv` its first `rows` rows, both rewritten atomically.
+    pub fn resume(
+        dir: &Path,
+        name: &str,
+        vtk: bool,
+        extra_columns: &[&str],
+        (time, frames, rows): (Real, usize, usize),
+    ) -> Result<Self, String> {
+        let pvd = if vtk {
+            let path = dir.join(format!("{name}.pvd"));
+            let mut pvd = PvdCollection::open_or_create(&path).map_err(|e| e.to_string())?;
+            pvd.truncate_after(time).map_err(|e| e.to_string())?;
+            if pvd.entries().len() != frames {
+                return Err(format!(
+                    "`{}` lists {} frames up to t = {time} s, the checkpoint {frames}: restart into the run's own output folder",
+                    path.display(),
+                    pvd.entries().len()
+                ));
+            }
+            Some(pvd)
+        } else {
+            None
+        };
+        let mut columns: Vec<&str> = DIAGNOSTIC_COLUMNS.to_vec();
+        columns.extend_from_slice(extra_columns);
+        let path = dir.join("diagnostics.csv");
+        let text = std::fs::read_to_string(&path)
+            .map_err(|error| format!("`{}`: {error}", path.display()))?;
+        let kept: String = text.split_inclusive('\n').take(1 + rows).collect();
+        if kept.lines().count() != 1 + rows || !kept.ends_with('\n') {
+            return Err(format!(
+                "`{}` holds fewer than the checkpoint's {rows} rows: restart into the run's own output folder",
+                path.display()
+            ));
+        }
+        geosph_io::write_atomically(&path, |w| w.write_all(kept.as_bytes()))
+            .map_err(|e| e.to_string())?;
+        let csv = CsvSeries::append_or_create(&path, &columns).map_err(|e| e.to_string())?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            name: name.to_owned(),
+            pvd,
+            csv,
+            frames,
+        })
+    }
+
     /// The folder.
     pub fn dir(&self) -> &Path {
         &self.dir
@@ -129,31 +178,55 @@ impl RunOutput {
             return Ok(());
         };
         let file = format!("frames/{}_{:06}.vtu", self.name, self.frames);
-        let mut fluid_frame = Frame::new(&fluid.position)
-            .with(Field::vector("velocity", &fluid.velocity))
-            .with(Field::scalar("density", &fluid.density))
-            .with(Field::integer("id", &fluid.id));
-        if let Some(pressure) = &fluid.pressure {
-            fluid_frame = fluid_frame.with(Field::scalar("pressure", pressure));
-        }
-        let soil = fluid.soil.as_ref().map(SoilFrameFields::<D>::of);
-        if let (Some(soil), Some(fields)) = (&soil, &fluid.soil) {
-            fluid_frame = fluid_frame.with(Field::tensor("stress", &fields.stress));
-            for (name, values) in &soil.scalars {
-                fluid_frame = fluid_frame.with(Field::scalar(name, values));
-            }
-            fluid_frame = fluid_frame.with(Field::vector("displacement", &soil.displacement));
-        }
-        let wall_frame = Frame::new(&walls.position)
-            .with(Field::vector("velocity", &walls.velocity))
-            .with(Field::scalar("density", &walls.density))
-            .with(Field::scalar("pressure", &walls.pressure));
-        write_vtu_sets(self.dir.join(&file), &[fluid_frame, wall_frame])?;
+        write_sets(&self.dir.join(&file), fluid, walls)?;
         pvd.add(time, &file)?;
         self.frames += 1;
         Ok(())
     }
 
+    /// Writes the fluid and the walls to `file` in the folder, outside the series (the frame
+    /// of an interrupted run), whether or not VTK output is on; returns its path.
+    pub fn write_snapshot<const D: usize>(
+        &self,
+        file: &str,
+        fluid: &Particles<D>,
+        walls: &WallParticles<D>,
+    ) -> Result<PathBuf, Error> {
+        let path = self.dir.join(file);
+        write_sets(&path, fluid, walls)?;
+        Ok(path)
+    }
+}
+
+/// Writes the fluid (set 0) and the walls (set 1) to the VTU file `path`.
+fn write_sets<const D: usize>(
+    path: &Path,
+    fluid: &Particles<D>,
+    walls: &WallParticles<D>,
+) -> Result<(), Error> {
+    let mut fluid_frame = Frame::new(&fluid.position)
+        .with(Field::vector("velocity", &fluid.velocity))
+        .with(Field::scalar("density", &fluid.density))
+        .with(Field::integer("id", &fluid.id));
+    if let Some(pressure) = &fluid.pressure {
+        fluid_frame = fluid_frame.with(Field::scalar("pressure", pressure));
+    }
+    let soil = fluid.soil.as_ref().map(SoilFrameFields::<D>::of);
+    if let (Some(soil), Some(fields)) = (&soil, &fluid.soil) {
+        fluid_frame = fluid_frame.with(Field::tensor("stress", &fields.stress));
+        for (name, values) in &soil.scalars {
+            fluid_frame = fluid_frame.with(Field::scalar(name, values));
+        }
+        fluid_frame = fluid_frame.with(Field::vector("displacement", &soil.displacement));
+    }
+    let wall_frame = Frame::new(&walls.position)
+        .with(Field::vector("velocity", &walls.velocity))
+        .with(Field::scalar("density", &walls.density))
+        .with(Field::scalar("pressure", &walls.pressure));
+    write_vtu_sets(path, &[fluid_frame, wall_frame])
+}
+
+impl RunOutput {
     /// Appends a row to `diagnostics.csv`.
     pub fn sample(&mut self, row: &[Real]) -> Result<(), Error> {
         self.csv.push(row)

@@ -1,6 +1,8 @@
 //! The run loop.
 
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
@@ -10,6 +12,9 @@ use geosph_fluid::{
 use geosph_scene::{Scene, SceneError, SolverSpec};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::checkpoint::{
+    self, Checkpoint, CheckpointError, CheckpointEvery, ParticleState, Progress,
+};
 use crate::health::{self, Diagnosis};
 use crate::observer::Observer;
 use crate::output::RunOutput;
@@ -25,6 +30,13 @@ pub struct RunOptions {
     pub threads: Option<usize>,
     /// Show a progress bar on standard error.
     pub progress: bool,
+    /// Write `checkpoint.bin` into the output folder at this interval (none without one).
+    pub checkpoint_every: Option<CheckpointEvery>,
+    /// Continue the run from this checkpoint, into the output folder it was written for.
+    pub restart: Option<PathBuf>,
+    /// Checked once per step: when set (e.g. by a Ctrl-C handler), the run writes the
+    /// current frame and a checkpoint and stops with [`RunError::Interrupted`].
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// What a run did.
@@ -155,6 +167,33 @@ pub enum RunError {
     /// The soil solver could not be built or its geostatic stage failed.
     #[error(transparent)]
     Soil(#[from] geosph_soil::SoilError),
+    /// A checkpoint cannot be written, or the restart file cannot be used.
+    #[error(transparent)]
+    Checkpoint(#[from] CheckpointError),
+    /// The restart's output folder does not continue the checkpoint's run.
+    #[error("restart: {0}")]
+    Resume(String),
+    /// The run was interrupted ([`RunOptions::interrupt`]); its state is saved.
+    #[error(
+        "interrupted at t = {time:.5} s, step {step}{saved}",
+        saved = match (checkpoint, frame) {
+            (Some(checkpoint), Some(frame)) => format!(
+                ": frame `{}`, checkpoint `{}` (continue with --restart {})",
+                frame.display(), checkpoint.display(), checkpoint.display()
+            ),
+            _ => " (no output folder: nothing saved)".to_owned(),
+        }
+    )]
+    Interrupted {
+        /// Simulated time reached.
+        time: Real,
+        /// Steps taken.
+        step: usize,
+        /// The checkpoint written, when there is an output folder.
+        checkpoint: Option<PathBuf>,
+        /// The current frame written, when there is an output folder.
+        frame: Option<PathBuf>,
+    },
 }
 
 /// Runs `scene` to its end time, calling `observer` at every sample time.
@@ -268,21 +307,53 @@ fn run_in<const D: usize>(
     })?;
 
     let vtk = options.vtk.unwrap_or(scene.output.vtk);
-    let mut output = match &options.out_dir {
-        Some(dir) => Some(RunOutput::create(
+    let restart = match &options.restart {
+        Some(path) => {
+            let saved = Checkpoint::read::<D>(path, scene)?;
+            fluid = saved
+                .particles
+                .restore(&fluid)
+                .map_err(|error| restart_mismatch(path, error.0))?;
+            solver
+                .restore_state(saved.solver, &mut fluid)
+                .map_err(|error| restart_mismatch(path, error.to_string()))?;
+            observer
+                .restore_state(&saved.observer)
+                .map_err(|reason| restart_mismatch(path, reason))?;
+            Some(saved.progress)
+        }
+        None => None,
+    };
+    let mut output = match (&options.out_dir, &restart) {
+        (Some(dir), None) => Some(RunOutput::create(
             dir,
             &scene.name,
             vtk,
             &observer.columns(),
         )?),
-        None => None,
+        (Some(dir), Some(progress)) => Some(
+            RunOutput::resume(
+                dir,
+                &scene.name,
+                vtk,
+                &observer.columns(),
+                (
+                    progress.time,
+                    progress.frames as usize,
+                    progress.rows as usize,
+                ),
+            )
+            .map_err(RunError::Resume)?,
+        ),
+        (None, _) => None,
     };
     let mut row = Vec::new();
     let mut sample = |time: Real,
                       step: usize,
                       report: &geosph_fluid::StepReport,
                       fluid: &Particles<D>,
-                      output: &mut Option<RunOutput>|
+                      output: &mut Option<RunOutput>,
+                      observer: &mut dyn Observer<D>|
      -> Result<(), RunError> {
         row.clear();
         row.extend_from_slice(&[
@@ -306,40 +377,67 @@ fn run_in<const D: usize>(
     let end_time = scene.end_time;
     let bar = progress_bar(options, end_time);
     let started = Instant::now();
-    let mut time = 0.0;
-    let mut steps = 0;
-    let mut report = geosph_fluid::StepReport::default();
-    for &rho in &fluid.density {
-        let error = solver.density_error(rho);
-        report.density_error_mean += error / fluid.len().max(1) as Real;
-        report.density_error_max = report.density_error_max.max(error);
-    }
-    sample(0.0, 0, &report, &fluid, &mut output)?;
-    if let Some(output) = &mut output {
-        output.write_frame(0.0, &fluid, solver.walls())?;
+    let mut state = restart.unwrap_or_default();
+    let first_step = state.steps as usize;
+    if first_step == 0 {
+        let mut report = geosph_fluid::StepReport::default();
+        for &rho in &fluid.density {
+            let error = solver.density_error(rho);
+            report.density_error_mean += error / fluid.len().max(1) as Real;
+            report.density_error_max = report.density_error_max.max(error);
+        }
+        sample(0.0, 0, &report, &fluid, &mut output, observer)?;
+        if let Some(output) = &mut output {
+            output.write_frame(0.0, &fluid, solver.walls())?;
+        }
+        state = Progress {
+            outputs: 1,
+            samples: 1,
+            rows: 1,
+            frames: output.as_ref().map_or(0, |o| o.frames() as u64),
+            ..Progress::default()
+        };
     }
     let (output_interval, sample_interval) = (scene.output.interval, scene.output.sample_interval);
     // Event times as multiples of the intervals, so they do not accumulate round-off.
-    let (mut outputs, mut samples) = (1.0, 1.0);
-    let mut next_output = output_interval;
-    let mut next_sample = sample_interval;
-    let mut max_density_error: Real = 0.0;
-    let mut density_error_sum = 0.0;
-    let (mut iteration_sum, mut divergence_iteration_sum) = (0, 0);
+    let mut next_output = state.outputs as Real * output_interval;
+    let mut next_sample = state.samples as Real * sample_interval;
+    let mut checkpoints = CheckpointClock::new(options.checkpoint_every, state.time);
+    let checkpoint_path = options
+        .out_dir
+        .as_ref()
+        .map(|dir| dir.join(checkpoint::FILE_NAME));
+    let save = |state: &Progress,
+                fluid: &Particles<D>,
+                solver: &dyn FluidSolver<D>,
+                observer: &dyn Observer<D>| {
+        Checkpoint {
+            scene: scene.name.clone(),
+            scene_hash: checkpoint::scene_hash(scene),
+            dimension: D as u32,
+            progress: state.clone(),
+            particles: ParticleState::save(fluid),
+            solver: solver.save_state(),
+            observer: observer.save_state(),
+        }
+    };
     let mut last_draw = Instant::now();
     // Times within this tolerance of an event count as reaching it.
     let tolerance = 1e-9 * end_time;
-    while time < end_time - tolerance {
+    while state.time < end_time - tolerance {
+        let time = state.time;
         let next_event = next_output.min(next_sample).min(end_time);
-        report = solver
+        let report = solver
             .step(&mut fluid, time, next_event - time)
             .map_err(|source| RunError::Solver {
                 time,
-                step: steps,
+                step: state.steps as usize,
                 source,
             })?;
-        time += report.dt;
-        steps += 1;
+        let time = time + report.dt;
+        state.time = time;
+        state.steps += 1;
+        let steps = state.steps as usize;
         if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref()) {
             bar.finish_and_clear();
             if let Some(output) = &mut output {
@@ -351,31 +449,60 @@ fn run_in<const D: usize>(
                 diagnosis,
             });
         }
-        max_density_error = max_density_error.max(report.density_error_max);
-        density_error_sum += report.density_error_mean;
-        iteration_sum += report.iterations;
-        divergence_iteration_sum += report.divergence_iterations;
+        state.max_density_error = state.max_density_error.max(report.density_error_max);
+        state.density_error_sum += report.density_error_mean;
+        state.iterations += report.iterations as u64;
+        state.divergence_iterations += report.divergence_iterations as u64;
         if time >= next_sample - tolerance {
-            sample(time, steps, &report, &fluid, &mut output)?;
-            samples += 1.0;
-            next_sample = samples * sample_interval;
+            sample(time, steps, &report, &fluid, &mut output, observer)?;
+            state.samples += 1;
+            state.rows += 1;
+            next_sample = state.samples as Real * sample_interval;
         }
         if time >= next_output - tolerance {
             if let Some(output) = &mut output {
                 output.write_frame(time, &fluid, solver.walls())?;
+                state.frames = output.frames() as u64;
             }
-            outputs += 1.0;
-            next_output = outputs * output_interval;
+            state.outputs += 1;
+            next_output = state.outputs as Real * output_interval;
+        }
+        let interrupted = options
+            .interrupt
+            .as_ref()
+            .is_some_and(|flag| flag.load(Ordering::Relaxed));
+        let finished = time >= end_time - tolerance;
+        if let (Some(path), Some(output)) = (&checkpoint_path, &mut output)
+            && (interrupted || (!finished && checkpoints.due(time)))
+        {
+            output.flush()?;
+            save(&state, &fluid, solver.as_ref(), observer).write(path)?;
+        }
+        if interrupted {
+            bar.finish_and_clear();
+            let frame = match &output {
+                Some(output) => {
+                    Some(output.write_snapshot("interrupted.vtu", &fluid, solver.walls())?)
+                }
+                None => None,
+            };
+            return Err(RunError::Interrupted {
+                time,
+                step: steps,
+                checkpoint: checkpoint_path.filter(|_| frame.is_some()),
+                frame,
+            });
         }
         if last_draw.elapsed() > Duration::from_millis(250) {
             last_draw = Instant::now();
             bar.set_position((time * 1e4) as u64);
-            let rate = steps as Real / started.elapsed().as_secs_f64();
+            let rate = (steps - first_step) as Real / started.elapsed().as_secs_f64();
             bar.set_message(format!("{time:.3} s, {rate:.0} steps/s"));
         }
     }
     bar.finish_and_clear();
     let wall_time = started.elapsed().as_secs_f64();
+    let steps = state.steps as usize;
     let frames = match &mut output {
         Some(output) => {
             output.flush()?;
@@ -390,15 +517,68 @@ fn run_in<const D: usize>(
         fluid_particles: fluid.len(),
         wall_particles,
         steps,
-        simulated_time: time,
+        simulated_time: state.time,
         wall_time,
-        particle_steps_per_second: (fluid.len() * steps) as Real / wall_time,
-        max_density_error,
-        mean_density_error: density_error_sum / steps.max(1) as Real,
-        mean_iterations: iteration_sum as Real / steps.max(1) as Real,
-        mean_divergence_iterations: divergence_iteration_sum as Real / steps.max(1) as Real,
+        particle_steps_per_second: (fluid.len() * (steps - first_step)) as Real / wall_time,
+        max_density_error: state.max_density_error,
+        mean_density_error: state.density_error_sum / steps.max(1) as Real,
+        mean_iterations: state.iterations as Real / steps.max(1) as Real,
+        mean_divergence_iterations: state.divergence_iterations as Real / steps.max(1) as Real,
         bytes_per_particle: fluid.bytes_per_particle(),
         frames,
         geostatic,
     })
+}
+
+/// A restart file that passed its own checks but does not fit the scene's particles or solver.
+fn restart_mismatch(path: &std::path::Path, reason: String) -> RunError {
+    RunError::Checkpoint(CheckpointError::Mismatch {
+        path: path.to_path_buf(),
+        reason,
+    })
+}
+
+/// When the next checkpoint is due. Checkpoints do not shorten steps (the run is the same
+/// with or without them): one is written after the first step that reaches its time.
+enum CheckpointClock {
+    Never,
+    Simulated { interval: Real, next: Real },
+    Wall { interval: Duration, last: Instant },
+}
+
+impl CheckpointClock {
+    fn new(every: Option<CheckpointEvery>, time: Real) -> Self {
+        match every {
+            None => Self::Never,
+            Some(CheckpointEvery::Simulated(interval)) => Self::Simulated {
+                interval,
+                next: ((time / interval).floor() + 1.0) * interval,
+            },
+            Some(CheckpointEvery::Wall(interval)) => Self::Wall {
+                interval,
+                last: Instant::now(),
+            },
+        }
+    }
+
+    /// Whether a checkpoint is due at `time`; if so, the clock moves on to the next one.
+    fn due(&mut self, time: Real) -> bool {
+        match self {
+            Self::Never => false,
+            Self::Simulated { interval, next } => {
+                let due = time >= *next;
+                if due {
+                    *next = ((time / *interval).floor() + 1.0) * *interval;
+                }
+                due
+            }
+            Self::Wall { interval, last } => {
+                let due = last.elapsed() >= *interval;
+                if due {
+                    *last = Instant::now();
+                }
+                due
+            }
+        }
+    }
 }

@@ -109,6 +109,19 @@ impl<const D: usize> Integrator<D> {
         &self.rates
     }
 
+    /// Whether the cached [`Integrator::rates`] belong to the current state (leap-frog then
+    /// starts the next step with them instead of evaluating them again).
+    pub fn rates_current(&self) -> bool {
+        self.rates_current
+    }
+
+    /// Restores the cached rates and whether they are current, as saved from
+    /// [`Integrator::rates`] and [`Integrator::rates_current`] (a restart from a checkpoint).
+    pub fn restore_rates(&mut self, rates: Rates<D>, current: bool) {
+        self.rates = rates;
+        self.rates_current = current;
+    }
+
     /// Reorders the cached rates with the particles (after a Z-order sort between steps).
     pub fn permute(&mut self, permutation: &geosph_core::Permutation) {
         permutation.apply(&mut self.rates.acceleration);

@@ -6,6 +6,7 @@ use rayon::prelude::*;
 
 use super::iisph::set_pressure_term;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
+use crate::state::{StateArrays, StateError};
 use crate::viscosity::Viscosity;
 
 /// DFSPH: two velocity-space solvers that share the per-particle factor α_i = ρ_i / d_i
@@ -209,5 +210,14 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
         if self.divergence_pressure.len() == permutation.len() {
             permutation.apply(&mut self.divergence_pressure);
         }
+    }
+
+    fn save_state(&self, arrays: &mut StateArrays) {
+        arrays.push("divergence_pressure", &self.divergence_pressure);
+    }
+
+    fn restore_state(&mut self, arrays: &mut StateArrays) -> Result<(), StateError> {
+        self.divergence_pressure = arrays.take("divergence_pressure")?;
+        Ok(())
     }
 }

@@ -33,6 +33,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::solver::{FluidSolver, SolverError, StepReport, event_step};
+use crate::state::{SolverState, StateArrays, StateError};
 use crate::viscosity::Viscosity;
 
 /// Iteration controls and time-step rule shared by the incompressible solvers.
@@ -126,6 +127,14 @@ pub trait PressureMethod<const D: usize>: Send {
 
     /// Reorders the method's own per-particle arrays.
     fn permute(&mut self, _permutation: &Permutation) {}
+
+    /// Adds the method's own warm-start arrays to a checkpoint's `arrays`.
+    fn save_state(&self, _arrays: &mut StateArrays) {}
+
+    /// Takes the method's warm-start arrays back from `arrays` (a restart).
+    fn restore_state(&mut self, _arrays: &mut StateArrays) -> Result<(), StateError> {
+        Ok(())
+    }
 }
 
 /// An incompressible solver: the shared [`PressureSystem`] stepped with the pressure solve `M`.
@@ -287,6 +296,32 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> FluidS
 
     fn blow_up_advice(&self) -> &'static str {
         "the pressure solve did not hold the density: lower `cfl`, set `max_time_step`, or raise `max_iterations`"
+    }
+
+    /// The step count, the acceleration bound of the next step's Δt and the method's warm
+    /// start; the pressure warm start travels with the particles. Lists, densities and
+    /// diagonals are rebuilt exactly from the positions.
+    fn save_state(&self) -> SolverState {
+        let mut state = SolverState::new(self.name(), self.steps);
+        state
+            .arrays
+            .push("max_acceleration", &[self.max_acceleration]);
+        self.method.save_state(&mut state.arrays);
+        state
+    }
+
+    fn restore_state(
+        &mut self,
+        mut state: SolverState,
+        fluid: &mut Particles<D>,
+    ) -> Result<(), SolverError> {
+        let steps = state.steps_of(self.name())?;
+        let max_acceleration = state.arrays.take_value("max_acceleration")?;
+        self.method.restore_state(&mut state.arrays)?;
+        self.system.update(fluid)?;
+        self.max_acceleration = max_acceleration;
+        self.steps = steps;
+        Ok(())
     }
 }
 

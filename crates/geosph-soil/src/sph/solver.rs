@@ -4,7 +4,7 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_fluid::incompressible::compression;
 use geosph_fluid::solver::{event_step, max_speed};
-use geosph_fluid::{FluidSolver, SolverError, StepReport};
+use geosph_fluid::{FluidSolver, SolverError, SolverState, StepReport};
 use geosph_kernels::Kernel;
 use geosph_time::{StepLimits, time_step};
 
@@ -134,5 +134,39 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
 
     fn blow_up_advice(&self) -> &'static str {
         "the soil is compressed far beyond its elastic range: lower `cfl`, or raise the artificial viscosity"
+    }
+
+    /// The step count, the last accelerations (they bound the next Δt) and the positions of
+    /// the neighbour lists; stress, strain and displacement travel with the particles.
+    fn save_state(&self) -> SolverState {
+        let mut state = SolverState::new(self.name(), self.steps);
+        state
+            .arrays
+            .push_matrices("acceleration", self.system.acceleration());
+        if let Some(listed) = self.system.listed_positions() {
+            state.arrays.push_matrices("listed_position", listed);
+        }
+        state
+    }
+
+    fn restore_state(
+        &mut self,
+        mut state: SolverState,
+        soil: &mut Particles<D>,
+    ) -> Result<(), SolverError> {
+        let steps = state.steps_of(self.name())?;
+        let arrays = &mut state.arrays;
+        let acceleration = arrays.take("acceleration")?;
+        let acceleration = acceleration
+            .chunks_exact(D)
+            .map(geosph_core::Vector::<D>::from_column_slice)
+            .collect();
+        let listed = match arrays.contains("listed_position") {
+            true => Some(arrays.take_matrices("listed_position", soil.len())?),
+            false => None,
+        };
+        self.system.restore(acceleration, listed)?;
+        self.steps = steps;
+        Ok(())
     }
 }

@@ -206,6 +206,42 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         Ok(removed)
     }
 
+    /// The positions the neighbour lists were built at, while they are valid (for a
+    /// checkpoint).
+    pub fn listed_positions(&self) -> Option<&[Vector<D>]> {
+        self.lists_valid.then_some(self.listed_position.as_slice())
+    }
+
+    /// Restores what the next step depends on besides the particles (a restart): the
+    /// accelerations of the last step (they bound Δt) and, when given, the neighbour lists
+    /// built at `listed`, positions saved from [`SoilSystem::listed_positions`].
+    pub fn restore(
+        &mut self,
+        acceleration: Vec<Vector<D>>,
+        listed: Option<Vec<Vector<D>>>,
+    ) -> Result<(), SearchError> {
+        self.acceleration = acceleration;
+        self.lists_valid = false;
+        if let Some(listed) = listed {
+            self.build_lists(&listed)?;
+            self.listed_position = listed;
+        }
+        Ok(())
+    }
+
+    /// Builds the grid and the three neighbour lists at `position`.
+    fn build_lists(&mut self, position: &[Vector<D>]) -> Result<(), SearchError> {
+        self.soil_grid.build(position)?;
+        self.soil_grid
+            .neighbour_list(position, position, &mut self.soil_soil);
+        self.wall_grid
+            .neighbour_list(&self.walls.position, position, &mut self.soil_wall);
+        self.soil_grid
+            .neighbour_list(position, &self.walls.position, &mut self.wall_soil);
+        self.lists_valid = true;
+        Ok(())
+    }
+
     fn lists_stale(&self, position: &[Vector<D>]) -> bool {
         if !self.lists_valid || self.listed_position.len() != position.len() {
             return true;
@@ -226,21 +262,8 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             soil.position.par_iter_mut().for_each(|x| domain.wrap(x));
         }
         if self.lists_stale(&soil.position) {
-            self.soil_grid.build(&soil.position)?;
-            self.soil_grid
-                .neighbour_list(&soil.position, &soil.position, &mut self.soil_soil);
-            self.wall_grid.neighbour_list(
-                &self.walls.position,
-                &soil.position,
-                &mut self.soil_wall,
-            );
-            self.soil_grid.neighbour_list(
-                &soil.position,
-                &self.walls.position,
-                &mut self.wall_soil,
-            );
+            self.build_lists(&soil.position)?;
             self.listed_position.clone_from(&soil.position);
-            self.lists_valid = true;
         }
         let n = soil.len();
         self.velocity_gradient.resize(n, Matrix::zeros());
