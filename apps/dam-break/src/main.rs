@@ -103,7 +103,7 @@ fn load(cli: &Cli) -> Result<Scene, String> {
     // Everything a user can get wrong is reported here, before any output or banner.
     scene.validate().map_err(|error| error.to_string())?;
     geosph_runner::output::check_folder(&cli.out())
-        .map_err(|reason| format!("output folder `{}`: {reason}", out.display()))?;
+        .map_err(|reason| format!("output folder `{}`: {reason}", cli.out().display()))?;
     Ok(scene)
 }
 

@@ -95,7 +95,7 @@ fn ctrl_c_saves_a_checkpoint_and_restart_finishes_the_run() {
         "--threads",
         "2",
     ];
-    let mut child = Command::new(env!("CARGO_BIN_EXE_dam-break"))
+    let child = Command::new(env!("CARGO_BIN_EXE_dam-break"))
         .args(common)
         .args(["--out", text(&out)])
         .stdout(std::process::Stdio::null())
