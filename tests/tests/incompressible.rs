@@ -4,8 +4,8 @@
 //!   run for 20 s of simulated time, the stability horizon the issue sets, with the pressure
 //!   solved to a target average compression of 0.1 %: the measured average compression over
 //!   the run at the target (5 % allowance, see the assertion), no particle through a wall,
-//!   and the mass exact. The layer pressures against ρ₀ g (H − y) are printed, not asserted
-//!   (see the comment in the test).
+//!   the mass exact, and the layer-averaged pressure (second 10 s) against ρ₀ g (H − y): the
+//!   bed layer and the mean over the layers below the top three within 5 % (see the test).
 //! - Dam break (coarse, dx = 0.04 m) at the default velocity CFL of 0.4, against Martin &
 //!   Moyce (1952) with the same bounds as the WCSPH case (`dam_break.rs`: front RMS < 0.35,
 //!   every point within 0.5, height RMS < 0.08, never ahead of Ritter's bound), and an
@@ -64,10 +64,22 @@ fn hydrostatic_tank(solver: &str) {
                 100.0 * (p / exact - 1.0)
             );
         }
-        // The layer pressures are printed above but not asserted: the issue asks for 2 % of
-        // ρ₀ g (H − y) and we measure up to 7–8 % (noisy from layer to layer, +4–6 % at the bed),
-        // which is open work (`docs/incompressible.md`). What is asserted: stability for 20 s,
-        // no particle through a wall, exact mass, and the compression at the target.
+        // The issue asks for every layer within 2 % of ρ₀ g (H − y); that is not met (open in
+        // issue 4, `docs/incompressible.md`): below the top three layers single layers are off
+        // by up to 9 %. Asserted is the bound the WCSPH tank sets for its bed layer, 5 %, on
+        // the bed layer and on the mean error of the layers below the top three.
+        let errors: Vec<Real> = average
+            .mean()
+            .iter()
+            .map(|&(y, p)| p / (1000.0 * 9.81 * (depth - y)) - 1.0)
+            .collect();
+        let mean_error = errors.iter().sum::<Real>() / errors.len() as Real;
+        assert!(
+            errors[0].abs() < 0.05 && mean_error.abs() < 0.05,
+            "{solver}: bed layer {:+.2} %, mean over the layers {:+.2} %",
+            100.0 * errors[0],
+            100.0 * mean_error
+        );
         check_contained(fluid, summary.fluid_particles, WIDTH);
         // The solves stop once the *predicted* mean compression is at most the 0.1 % target;
         // the compression measured after the move differs from that linear prediction at
@@ -141,6 +153,12 @@ fn dam_break_follows_martin_moyce_pcisph() {
     dam_break("Pcisph(())");
 }
 
-// IISPH and DFSPH are not in this test, and this is open in issue 4: at dx = 0.04 m IISPH
-// throws one particle over the 4 m tank wall at t = 1.38 s, and DFSPH's state turns NaN at
-// t = 0.69 s; either ends the run.
+#[test]
+fn dam_break_follows_martin_moyce_iisph() {
+    dam_break("Iisph(())");
+}
+
+#[test]
+fn dam_break_follows_martin_moyce_dfsph() {
+    dam_break("Dfsph(())");
+}

@@ -12,7 +12,7 @@ use crate::diffusion::{DeltaAntuono2010, DeltaMolteni2009, DensityDiffusion, NoD
 use crate::eos::{EosKind, EquationOfState};
 use crate::incompressible::{
     Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
-    WallPressure, lattice_kernel_sum,
+    WallPressure, lattice_gradient_factor, lattice_kernel_sum,
 };
 use crate::solver::{FluidSolver, Wcsph};
 use crate::viscosity::{ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Viscosity};
@@ -396,7 +396,9 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
         match self.method {
             IncompressibleMethod::Pcisph => {
                 let mass = self.setup.rest_density / lattice_kernel_sum(&kernel, spacing);
-                let method = Pcisph::new::<D, K>(&kernel, spacing, mass);
+                let mut method = Pcisph::new::<D, K>(&kernel, spacing, mass);
+                // The system's diagonals carry the gradient correction; so must the prototype's.
+                method.prototype_diagonal /= lattice_gradient_factor(&kernel, spacing);
                 self.finish(kernel, viscosity, method)
             }
             IncompressibleMethod::Iisph => {

@@ -14,21 +14,27 @@ use crate::viscosity::Viscosity;
 /// [`PressureSystem::diagonal`]), computed once per step with the neighbour lists.
 ///
 /// - **Constant density** (ibid., Algorithm 3): while the average of the predicted
-///   compression max(ρ_i + Δt Σ_j m_j (v_i − v_j)·∇_i W_ij − ρ₀, 0) exceeds the target, each
-///   particle takes the pressure increment δp_i = (ρ*_i − ρ₀) ρ_i² / (Δt² d_i) (the stiffness
-///   κ_i = δp_i/ρ_i of the paper) and the velocities change by Δt a^p(δp).
+///   compression max(ρ*_i − ρ₀, 0), ρ*_i = ρ_i + Δt Σ_j m_j (v_i − v_j)·∇_i W_ij, exceeds the
+///   target, each particle takes the pressure increment δp_i = (ρ*_i − ρ₀) ρ_i² / (Δt² d_i)
+///   (the stiffness κ_i = δp_i/ρ_i of the paper) and the velocities change by Δt a^p(δp).
 /// - **Divergence-free** (ibid., Algorithm 2), after the positions and lists are updated: the
 ///   same with the density rate max(Σ_j m_j (v_i − v_j)·∇_i W_ij, 0) and
 ///   δp_i = (Dρ_i/Dt) ρ_i² / (Δt d_i), until Δt times its average is below the target.
 ///
 /// Both start from half the previous step's summed pressures (warm start, ibid., §4.4, with the
-/// factor ½ of [`Iisph`](super::Iisph): see `WARM_START`).
+/// factor ½ of [`Iisph`](super::Iisph)), but only on particles whose residual before any
+/// pressure acts is positive. Increments are never negative (the residual is clamped at zero),
+/// so a warm start where no pressure is needed could never be relaxed: the initial
+/// hydrostatic pressure on the free face of a dam break, where the exact pressure drops to
+/// zero at release, kicked those particles to 3 m/s in the first step.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Dfsph {
     /// Run the divergence-free solve (default true).
     pub divergence_solve: bool,
     /// Target of the divergence solve: average of Δt Dρ/Dt / ρ₀ (default 0.001).
     pub target_divergence_error: Real,
+    /// Summed pressure increments of the last constant-density solve (its warm start).
+    density_pressure: Vec<Real>,
     /// Summed pressure increments of the last divergence solve (its warm start).
     divergence_pressure: Vec<Real>,
     /// Increments of the current iteration.
@@ -41,6 +47,7 @@ impl Dfsph {
         Self {
             divergence_solve,
             target_divergence_error,
+            density_pressure: Vec::new(),
             divergence_pressure: Vec::new(),
             increment: Vec::new(),
         }
@@ -53,11 +60,10 @@ impl Default for Dfsph {
     }
 }
 
-/// Factor on the previous step's summed pressure as the initial guess. Increments are never
-/// negative (the residual is clamped at zero), so a full warm start could never relax a
-/// pressure that is no longer needed: it would push particles apart at every step. Half of it,
-/// as IISPH's warm start, decays such a pressure geometrically and costs a few iterations
-/// where the pressure is steady.
+/// Factor on the previous step's summed pressure as the initial guess. The solve stops on the
+/// compression alone, so a pressure no longer needed (an expanding particle's) is relaxed only
+/// as far as the iterations run: half of it, as IISPH's warm start, decays it geometrically
+/// from step to step and costs a few iterations where the pressure is steady.
 const WARM_START: Real = 0.5;
 
 /// Which residual a DFSPH solve drives to zero.
@@ -85,6 +91,11 @@ impl Dfsph {
         increment: &mut [Real],
     ) -> SolveReport {
         let rho0 = system.rest_density;
+        // The clamped residual: predicted compression, or compression rate.
+        let residual_of = |rho_i: Real, div: Real| match kind {
+            Residual::Density => (rho_i + dt * div - rho0).max(0.0),
+            Residual::Divergence => div.max(0.0),
+        };
         let diagonal = system.diagonal();
         let Particles {
             velocity,
@@ -106,7 +117,19 @@ impl Dfsph {
                 .zip(acceleration.par_iter())
                 .for_each(|(v, a)| *v += a * dt);
         };
-        summed.par_iter_mut().for_each(|p| *p *= WARM_START);
+        // Warm start where the particle is compressed (its rate) before any pressure acts.
+        system.divergence(mass, velocity, &system.walls.velocity, divergence);
+        summed
+            .par_iter_mut()
+            .zip(divergence.par_iter())
+            .zip(density.par_iter())
+            .for_each(|((p, div), rho_i)| {
+                *p = if residual_of(*rho_i, *div) > 0.0 {
+                    *p * WARM_START
+                } else {
+                    0.0
+                };
+            });
         apply(summed, velocity);
         let (scale, error_scale) = match kind {
             Residual::Density => (1.0 / (dt * dt), 1.0 / rho0),
@@ -122,11 +145,7 @@ impl Dfsph {
                 .enumerate()
                 .for_each(|(i, ((r, dp), div))| {
                     let rho_i = density[i];
-                    *r = match kind {
-                        Residual::Density => rho_i + dt * div - rho0,
-                        Residual::Divergence => *div,
-                    }
-                    .max(0.0);
+                    *r = residual_of(rho_i, *div);
                     *dp = if diagonal[i] > 0.0 {
                         *r * scale * rho_i * rho_i / diagonal[i]
                     } else {
@@ -148,6 +167,20 @@ impl Dfsph {
     }
 }
 
+impl Dfsph {
+    /// Writes the pressure of the step, the sum of both solves' pressures (each acts on the
+    /// velocity as Δt a^p), into `fluid` for output and for the wall head's limit.
+    fn report_pressure<const D: usize>(&self, fluid: &mut Particles<D>) {
+        let pressure = fluid.pressure.as_mut().expect("pressure is enabled");
+        let divergence = &self.divergence_pressure;
+        pressure
+            .par_iter_mut()
+            .zip(self.density_pressure.par_iter())
+            .enumerate()
+            .for_each(|(i, (p, density))| *p = density + divergence.get(i).copied().unwrap_or(0.0));
+    }
+}
+
 impl<const D: usize> PressureMethod<D> for Dfsph {
     const NAME: &'static str = "dfsph";
 
@@ -160,8 +193,12 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
         scratch: &mut Scratch<D>,
     ) -> SolveReport {
         self.increment.resize(fluid.len(), 0.0);
-        let mut summed = fluid.pressure.take().expect("pressure is enabled");
-        let report = Self::solve(
+        let pressure = fluid.pressure.as_ref().expect("pressure is enabled");
+        if self.density_pressure.len() != pressure.len() {
+            // The first step starts from the initial (hydrostatic) pressure.
+            self.density_pressure.clone_from(pressure);
+        }
+        Self::solve(
             system,
             fluid,
             dt,
@@ -169,11 +206,9 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
             settings.target_density_error,
             settings,
             scratch,
-            &mut summed,
+            &mut self.density_pressure,
             &mut self.increment,
-        );
-        fluid.pressure = Some(summed);
-        report
+        )
     }
 
     fn after_update<K: Kernel<D>, V: Viscosity<D>>(
@@ -185,6 +220,7 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
         scratch: &mut Scratch<D>,
     ) -> SolveReport {
         if !self.divergence_solve {
+            self.report_pressure(fluid);
             return SolveReport::default();
         }
         self.increment.resize(fluid.len(), 0.0);
@@ -193,7 +229,7 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
             min_iterations: 1,
             ..*settings
         };
-        Self::solve(
+        let report = Self::solve(
             system,
             fluid,
             dt,
@@ -203,12 +239,16 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
             scratch,
             &mut self.divergence_pressure,
             &mut self.increment,
-        )
+        );
+        self.report_pressure(fluid);
+        report
     }
 
     fn permute(&mut self, permutation: &Permutation) {
-        if self.divergence_pressure.len() == permutation.len() {
-            permutation.apply(&mut self.divergence_pressure);
+        for summed in [&mut self.density_pressure, &mut self.divergence_pressure] {
+            if summed.len() == permutation.len() {
+                permutation.apply(summed);
+            }
         }
     }
 

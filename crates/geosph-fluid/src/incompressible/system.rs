@@ -55,6 +55,10 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
     pub walls: WallParticles<D>,
     /// Wall pressure model.
     pub wall_pressure: WallPressure,
+    /// Constant c multiplying every pressure-gradient term (1: none). The solvers set it to
+    /// 1/f of [`lattice_gradient_factor`], so that the pressure force of a linear pressure
+    /// field on the initial lattice is exact.
+    pub gradient_correction: Real,
     fluid_grid: CellGrid<D>,
     wall_grid: CellGrid<D>,
     fluid_fluid: NeighbourList,
@@ -92,6 +96,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             gravity,
             walls,
             wall_pressure,
+            gradient_correction: 1.0,
             fluid_grid,
             wall_grid,
             fluid_fluid: NeighbourList::new(),
@@ -186,8 +191,9 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         });
     }
 
-    /// d_i = G_i·S_i + m_i Σ_j m_j |∇_i W_ij|², with S_i = Σ_j m_j ∇_i W_ij + Σ_b m_b ∇_i W_ib
-    /// and G_i = Σ_j m_j ∇_i W_ij + 2 Σ_b m_b ∇_i W_ib (the wall term doubled by mirroring).
+    /// d_i = c (G_i·S_i + m_i Σ_j m_j |∇_i W_ij|²), with S_i = Σ_j m_j ∇_i W_ij + Σ_b m_b ∇_i W_ib,
+    /// G_i = Σ_j m_j ∇_i W_ij + 2 Σ_b m_b ∇_i W_ib (the wall term doubled by mirroring) and c
+    /// the [`PressureSystem::gradient_correction`].
     ///
     /// A pressure change δp_i at particle i alone changes the predicted density of i by
     /// −Δt² d_i δp_i / ρ_i² (derived in `docs/fluid.md`): d_i is the diagonal of the pressure
@@ -199,6 +205,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         let (fluid_gradient, wall_gradient, walls) =
             (&self.fluid_gradient, &self.wall_gradient, &self.walls);
         let mass = &fluid.mass;
+        let correction = self.gradient_correction;
         self.wall_gradient_sum.resize(fluid.len(), Vector::zeros());
         self.diagonal.resize(fluid.len(), 0.0);
         self.diagonal
@@ -226,7 +233,8 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                     sum += gradient * (rho0 * walls.volume[b as usize]);
                 }
                 *wall_sum = sum;
-                *d_i = (fluid_sum + sum * 2.0).dot(&(fluid_sum + sum)) + mass[i] * squares;
+                *d_i = correction
+                    * ((fluid_sum + sum * 2.0).dot(&(fluid_sum + sum)) + mass[i] * squares);
             });
     }
 
@@ -236,7 +244,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     }
 
     /// The known acceleration: gravity, the viscous term, and with
-    /// [`WallPressure::Hydrostatic`] the wall head −Σ_b m_b (h_b/ρ_i) ∇_i W_ib,
+    /// [`WallPressure::Hydrostatic`] the wall head −c Σ_b m_b (h_b/ρ_i) ∇_i W_ib,
     /// h_b = max((g − a_b)·(x_b − x_i), −p_i/ρ_i) with p_i the pressure in `fluid` (the last
     /// step's).
     pub fn non_pressure_acceleration(&self, fluid: &Particles<D>, acceleration: &mut [Vector<D>]) {
@@ -246,6 +254,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         let (fluid_gradient, wall_gradient) = (&self.fluid_gradient, &self.wall_gradient);
         let rho0 = self.rest_density;
         let head = self.wall_pressure == WallPressure::Hydrostatic;
+        let correction = self.gradient_correction;
         let eta2 = 0.01 * kernel.smoothing_length().powi(2);
         let Particles {
             position,
@@ -308,7 +317,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                         // that p_b = p_i + ρ_i h_b stays ≥ 0 for the last step's p_i.
                         let h_b = (-(gravity - walls.acceleration[b]).dot(&r_ib))
                             .max(-previous_pressure[i] / rho_i);
-                        sum -= grad * (mass_b * h_b / rho_i);
+                        sum -= grad * (correction * mass_b * h_b / rho_i);
                     }
                 }
                 *a_i = sum;
@@ -316,8 +325,9 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     }
 
     /// The pressure acceleration
-    /// a_i = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij − (2 p_i/ρ_i²) Σ_b m_b ∇_i W_ib
-    /// (Monaghan 1992, eq. 3.3, with mirrored wall pressure), from `pressure_term` = p/ρ².
+    /// a_i = −c [Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij + (2 p_i/ρ_i²) Σ_b m_b ∇_i W_ib]
+    /// (Monaghan 1992, eq. 3.3, with mirrored wall pressure and the constant
+    /// [`PressureSystem::gradient_correction`] c), from `pressure_term` = p/ρ².
     pub fn pressure_acceleration(
         &self,
         mass: &[Real],
@@ -326,6 +336,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     ) {
         let (fluid_fluid, fluid_gradient) = (&self.fluid_fluid, &self.fluid_gradient);
         let wall_sum = &self.wall_gradient_sum;
+        let correction = self.gradient_correction;
         acceleration
             .par_iter_mut()
             .enumerate()
@@ -341,7 +352,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                     let j = j as usize;
                     sum += gradient * (mass[j] * (term_i + pressure_term[j]));
                 }
-                *a_i = -sum;
+                *a_i = sum * -correction;
             });
     }
 
@@ -438,6 +449,26 @@ pub fn lattice_kernel_sum<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Rea
     sum
 }
 
+/// The factor f of Σ_j V (x_j − x_i) ⊗ ∇_i W_ij = f I for a particle inside a filled lattice
+/// of spacing dx with V = 1 / Σ_k W(|k dx|), the volume the incompressible solvers give it.
+///
+/// f = 1 would make the SPH gradient of a linear field exact; for Wendland C2 at h = 1.3 dx
+/// in 2D f = 0.964 (see the unit test), so a pressure force −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²)
+/// ∇_i W_ij holding still water up needs a pressure gradient 3.7 % steeper than ρ₀ g. The
+/// solvers multiply every pressure-gradient term by 1/f
+/// ([`PressureSystem::gradient_correction`]): a constant, so the pair forces stay
+/// antisymmetric and momentum is conserved, unlike a per-particle renormalisation
+/// (Randles & Libersky 1996), which is exact for any particle order but is not.
+pub fn lattice_gradient_factor<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
+    let volume = 1.0 / lattice_kernel_sum(kernel, spacing);
+    let mut sum = 0.0;
+    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
+        // x = x_j − x_i, so ∇_i W_ij = ∇W(−x).
+        sum += x.dot(&kernel.gradient(&-x));
+    });
+    volume * sum / D as Real
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -462,6 +493,25 @@ mod tests {
         ] {
             println!("{name}: Σ W dx^D = {sum}");
             assert!((sum - 1.0).abs() < 0.05, "{name}: {sum}");
+        }
+    }
+
+    /// The factor against a direct sum of the x-gradient of f(x) = x over a lattice, which
+    /// must tend to 1 as h/dx grows (0.9638 at 1.3, 0.9923 at 1.5, 0.9980 at 2.0 in 2D,
+    /// computed independently).
+    #[test]
+    fn lattice_gradient_factor_is_the_gradient_of_a_linear_field() {
+        let dx: Real = 0.01;
+        for (ratio, expected) in [(1.3, 0.9638), (1.5, 0.9923), (2.0, 0.9980)] {
+            let kernel = WendlandC2::<2>::new(ratio * dx);
+            let volume = 1.0 / lattice_kernel_sum::<2, _>(&kernel, dx);
+            let mut gradient = Vector::<2>::zeros();
+            for_each_lattice_offset::<2>(kernel.support_radius(), dx, |x| {
+                gradient += kernel.gradient(&-x) * (volume * x[0]);
+            });
+            let factor = lattice_gradient_factor::<2, _>(&kernel, dx);
+            assert!((gradient[0] - factor).abs() < 1e-12 && gradient[1].abs() < 1e-12);
+            assert!((factor - expected).abs() < 5e-4, "h = {ratio} dx: {factor}");
         }
     }
 }
