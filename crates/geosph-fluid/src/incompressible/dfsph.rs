@@ -253,10 +253,12 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
     }
 
     fn save_state(&self, arrays: &mut StateArrays) {
+        arrays.push("density_pressure", &self.density_pressure);
         arrays.push("divergence_pressure", &self.divergence_pressure);
     }
 
     fn restore_state(&mut self, arrays: &mut StateArrays) -> Result<(), StateError> {
+        self.density_pressure = arrays.take("density_pressure")?;
         self.divergence_pressure = arrays.take("divergence_pressure")?;
         Ok(())
     }
