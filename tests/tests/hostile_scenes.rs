@@ -117,12 +117,48 @@ const CASES: &[(&str, &str, &str)] = &[
     ("periodic list too long", "walls: [ => domain: (min: [-1.0, -1.0], max: [3.0, 3.0], periodic: [true, false, true]), walls: [", "`domain.periodic`: needs 2 entries or none, got 3"),
 ];
 
-/// The scene text of a case.
-fn scene_text(spec: &str) -> Result<String, String> {
+/// A small valid soil scene (≈ 50 soil particles) that the soil cases patch.
+const SOIL_BASE: &str = r#"Scene(
+    name: "hostile-soil",
+    dimension: 2,
+    dx: 0.02,
+    end_time: 0.002,
+    output: (interval: 0.001, sample_interval: 0.001, vtk: true),
+    soil: (density: 2650.0, blocks: [Box(min: [0.0, 0.0], max: [0.2, 0.1])]),
+    walls: [Tank(min: [0.0, 0.0], max: [0.6, 0.3], layers: 3, open_top: true)],
+    solver: Soil((
+        constitutive: DruckerPrager(
+            material: (youngs_modulus: 0.84e6, poisson_ratio: 0.3, friction_angle_deg: 19.8,
+                       cohesion: 0.0, dilatancy_angle_deg: 0.0),
+            algorithm: Bui2008,
+        ),
+        cfl: 0.2,
+    )),
+)
+"#;
+
+/// Soil cases, patches of [`SOIL_BASE`]: the material's ranges (E > 0, ν ∈ [0, 0.5),
+/// φ ∈ [0°, 90°), c ≥ 0, 0 ≤ ψ ≤ φ) and the soil solver's own settings.
+#[rustfmt::skip]
+const SOIL_CASES: &[(&str, &str, &str)] = &[
+    ("negative Young's modulus", "youngs_modulus: 0.84e6 => youngs_modulus: -0.84e6", "`solver.constitutive.youngs_modulus`: must lie in (0, inf), got -840000"),
+    ("zero Young's modulus", "youngs_modulus: 0.84e6 => youngs_modulus: 0.0", "`solver.constitutive.youngs_modulus`: must lie in (0, inf), got 0"),
+    ("Poisson's ratio 0.5", "poisson_ratio: 0.3 => poisson_ratio: 0.5", "`solver.constitutive.poisson_ratio`: must lie in [0, 0.5), got 0.5"),
+    ("negative Poisson's ratio", "poisson_ratio: 0.3 => poisson_ratio: -0.1", "`solver.constitutive.poisson_ratio`: must lie in [0, 0.5), got -0.1"),
+    ("friction angle 90°", "friction_angle_deg: 19.8 => friction_angle_deg: 90.0", "`solver.constitutive.friction_angle_deg`: must lie in [0, 90) degrees, got 90"),
+    ("negative friction angle", "friction_angle_deg: 19.8 => friction_angle_deg: -5.0", "`solver.constitutive.friction_angle_deg`: must lie in [0, 90) degrees, got -5"),
+    ("negative cohesion", "cohesion: 0.0 => cohesion: -100.0", "`solver.constitutive.cohesion`: must lie in [0, inf), got -100"),
+    ("dilatancy above friction", "dilatancy_angle_deg: 0.0 => dilatancy_angle_deg: 30.0", "`solver.constitutive.dilatancy_angle_deg`: must lie in [0, friction_angle_deg] degrees, got 30"),
+    ("soil CFL too large", "cfl: 0.2 => cfl: 0.8", "`solver.cfl`: must lie in (0, 0.5], got 0.8"),
+    ("misspelt material field", "poisson_ratio: 0.3 => poison_ratio: 0.3", "poison_ratio"),
+];
+
+/// The scene text of a case: `spec` patched into `base`, or `spec` itself.
+fn scene_text(base: &str, spec: &str) -> Result<String, String> {
     if !spec.contains(" => ") {
         return Ok(spec.to_owned());
     }
-    let mut text = BASE.to_owned();
+    let mut text = base.to_owned();
     for replacement in spec.split(" ;; ") {
         let (old, new) = replacement
             .split_once(" => ")
@@ -183,6 +219,9 @@ fn the_base_scene_is_valid_and_runs() {
     parse_and_run(BASE, &out).unwrap();
     assert!(out.join("hostile.pvd").exists());
     assert!(out.join("frames/hostile_000002.vtu").exists());
+    let out = folder.join("soil");
+    parse_and_run(SOIL_BASE, &out).unwrap();
+    assert!(out.join("hostile-soil.pvd").exists());
     std::fs::remove_dir_all(folder).unwrap();
 }
 
@@ -190,8 +229,10 @@ fn the_base_scene_is_valid_and_runs() {
 fn malformed_scenes_fail_with_a_one_line_error_naming_the_field() {
     let folder = scratch("hostile-scenes");
     let mut failures = Vec::new();
-    for (index, (name, spec, expected)) in CASES.iter().enumerate() {
-        let text = match scene_text(spec) {
+    let cases = CASES.iter().map(|case| (BASE, case));
+    let soil_cases = SOIL_CASES.iter().map(|case| (SOIL_BASE, case));
+    for (index, (base, (name, spec, expected))) in cases.chain(soil_cases).enumerate() {
+        let text = match scene_text(base, spec) {
             Ok(text) => text,
             Err(problem) => {
                 failures.push(format!("{name}: {problem}"));
@@ -204,12 +245,13 @@ fn malformed_scenes_fail_with_a_one_line_error_naming_the_field() {
             failures.push(format!("{name}: expected `{expected}`, but it {problem}"));
         }
     }
-    assert!(CASES.len() >= 30);
+    let total = CASES.len() + SOIL_CASES.len();
+    assert!(total >= 30);
     assert!(
         failures.is_empty(),
         "{} of {} malformed scenes misbehaved:\n{}",
         failures.len(),
-        CASES.len(),
+        total,
         failures.join("\n")
     );
     std::fs::remove_dir_all(folder).unwrap();
