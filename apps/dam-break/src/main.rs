@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use geosph_runner::{CheckpointEvery, RunError, RunOptions, interrupt};
+use geosph_runner::cli::RunArgs;
+use geosph_runner::{RunError, interrupt};
 use geosph_scene::{Scene, SolverSpec};
 
 /// Dam break with SPH, compared with the experiments of Martin & Moyce (1952).
@@ -15,18 +16,12 @@ struct Cli {
     /// Scene file (RON); default: the embedded 2D scene, a 1 m × 2 m column in a 4 m × 4 m tank.
     #[arg(long)]
     scene: Option<PathBuf>,
-    /// Output folder [default: out/dam-break, or with --restart the checkpoint's folder].
-    #[arg(long)]
-    out: Option<PathBuf>,
     /// Particle spacing in m (overrides the scene).
     #[arg(long)]
     dx: Option<f64>,
     /// Simulated end time in s (overrides the scene).
     #[arg(long)]
     end_time: Option<f64>,
-    /// Worker threads (default: one per core).
-    #[arg(long)]
-    threads: Option<usize>,
     /// Solver (overrides the scene; its parameters take their defaults).
     #[arg(long, value_parser = SolverSpec::NAMES)]
     solver: Option<String>,
@@ -34,35 +29,15 @@ struct Cli {
     /// (overrides the scene).
     #[arg(long)]
     target_error: Option<f64>,
-    /// Do not write VTU frames.
-    #[arg(long)]
-    no_vtk: bool,
-    /// No progress bar.
-    #[arg(long)]
-    quiet: bool,
-    /// Write the complete state to `checkpoint.bin` in the output folder (replacing the
-    /// previous one) at this interval: a bare number is simulated seconds (`0.5`), a number
-    /// with a unit is wall-clock time (`30s`, `10min`, `2h`). Ctrl-C always writes one, with
-    /// the current frame as `interrupted.vtu`, and exits with status 130.
-    #[arg(long, value_name = "INTERVAL")]
-    checkpoint_every: Option<CheckpointEvery>,
-    /// Continue the run saved in this checkpoint, into its output folder; give the same scene
-    /// and overrides. The frames and the `.pvd` continue bitwise as if never stopped.
-    #[arg(long, value_name = "FILE")]
-    restart: Option<PathBuf>,
+    /// Output, threads, progress, checkpoints and restart.
+    #[command(flatten)]
+    run: RunArgs,
 }
 
 impl Cli {
-    /// The output folder: `--out`, else the restart file's folder, else the default.
+    /// The output folder: `--out`, else the restart file's folder, else `out/dam-break`.
     fn out(&self) -> PathBuf {
-        match (&self.out, &self.restart) {
-            (Some(out), _) => out.clone(),
-            (None, Some(restart)) => restart
-                .parent()
-                .filter(|dir| !dir.as_os_str().is_empty())
-                .map_or_else(|| PathBuf::from("."), PathBuf::from),
-            (None, None) => PathBuf::from("out/dam-break"),
-        }
+        self.run.out("out/dam-break")
     }
 }
 
@@ -116,22 +91,13 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let interrupt = match interrupt::on_ctrl_c() {
-        Ok(flag) => flag,
+    let out = cli.out();
+    let options = match cli.run.options(out.clone()) {
+        Ok(options) => options,
         Err(message) => {
             eprintln!("error: {message}");
             return ExitCode::FAILURE;
         }
-    };
-    let out = cli.out();
-    let options = RunOptions {
-        out_dir: Some(out.clone()),
-        vtk: cli.no_vtk.then_some(false),
-        threads: cli.threads,
-        progress: !cli.quiet,
-        checkpoint_every: cli.checkpoint_every,
-        restart: cli.restart.clone(),
-        interrupt: Some(interrupt),
     };
     eprintln!(
         "dam-break: {} ({}D, dx = {} m, to t = {} s) -> {}",

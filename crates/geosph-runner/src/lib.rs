@@ -39,6 +39,8 @@
 #![warn(missing_docs)]
 
 pub mod checkpoint;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod health;
 pub mod interrupt;
 pub mod observer;
