@@ -8,7 +8,7 @@ use crate::{CheckpointEvery, RunOptions, interrupt};
 /// Output, threads, progress, checkpoint and restart options, for `#[command(flatten)]`.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
-    /// Output folder [default: out/<app>, or with --restart the checkpoint's folder].
+    /// Output folder [default: out/ and the app's name, or with --restart the checkpoint's folder].
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Worker threads (default: one per core).
