@@ -73,7 +73,8 @@ pub enum DensityConfig {
 pub struct WcsphConfig {
     /// Equation of state (default Tait, γ = 7).
     pub equation_of_state: EosKind,
-    /// Reference sound speed c₀ in m/s; `None`: 10 × the expected largest speed √(2 g H).
+    /// Reference sound speed c₀ in m/s; `None`: 10 × the expected largest speed, max(√(2 g H),
+    /// largest initial speed).
     pub sound_speed: Option<Real>,
     /// Continuity or summation.
     pub density: DensityConfig,

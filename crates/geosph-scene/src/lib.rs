@@ -37,10 +37,11 @@
 #![warn(missing_docs)]
 
 pub mod format;
+mod initial;
 mod parse;
 pub mod setup;
 pub mod validate;
 
-pub use format::{FluidSpec, OutputSpec, Region, Scene, SolverSpec, WallSpec};
+pub use format::{FluidSpec, InitialVelocity, OutputSpec, Region, Scene, SolverSpec, WallSpec};
 pub use setup::{Setup, build};
 pub use validate::SceneError;

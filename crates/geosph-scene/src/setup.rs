@@ -7,6 +7,7 @@ use geosph_fluid::config::FluidSetup;
 use geosph_kernels::KernelKind;
 
 use crate::format::{Region, Scene, SolverSpec, WallSpec};
+use crate::initial::{initial_speed, jitter, set_velocity};
 use crate::validate::SceneError;
 
 /// What a solver is built from: the scene turned into particles and numbers.
@@ -24,7 +25,7 @@ pub struct Setup<const D: usize> {
     pub smoothing_length: Real,
     /// ρ₀ of the fluid.
     pub rest_density: Real,
-    /// c₀, given or 10 √(2 |g| H).
+    /// c₀, given or 10 × max(√(2 |g| H), largest initial speed).
     pub sound_speed: Real,
     /// Gravity.
     pub gravity: Vector<D>,
@@ -136,7 +137,8 @@ fn behind_polyline<const D: usize>(
     None
 }
 
-fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
+/// The first `D` of `values` as a vector (after validation, exactly `D`).
+pub(crate) fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
     Vector::<D>::from_fn(|k, _| values[k])
 }
 
@@ -187,6 +189,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         surface.extend(std::iter::repeat_n(top, points.len()));
         position.extend(points);
     }
+    if fluid_spec.jitter > 0.0 {
+        jitter(&mut position, fluid_spec.jitter * dx);
+    }
     if position.is_empty() {
         return Err(SceneError::Field {
             field: "fluid.blocks".into(),
@@ -213,13 +218,19 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     };
     let hydrostatic = fluid_spec.hydrostatic && !matches!(scene.solver, SolverSpec::Soil(_));
     let g = gravity.norm();
+    // The expected largest speed: the collapse speed √(2 g H) or the initial speed.
+    let largest_speed = (2.0 * g * fluid_height)
+        .sqrt()
+        .max(initial_speed(&fluid_spec.velocity, &position));
     let sound_speed = match given_sound_speed {
         Some(c0) => c0,
-        None if g > 0.0 => 10.0 * (2.0 * g * fluid_height).sqrt(),
+        None if largest_speed > 0.0 => 10.0 * largest_speed,
         None => {
             return Err(SceneError::Field {
                 field: "solver.sound_speed".into(),
-                message: "must be given when gravity is zero (the default is 10 √(2 g H))".into(),
+                message: "must be given when gravity is zero and the fluid starts at rest \
+                          (the default is 10 × max(√(2 g H), initial speed))"
+                    .into(),
             });
         }
     };
@@ -242,6 +253,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         }
         fluid.pressure = Some(pressure);
     }
+    set_velocity(&mut fluid, &fluid_spec.velocity, &eos);
 
     let mut walls = WallParticles::default();
     // The first wall particle of each wall, to name the wall a fluid particle overlaps.
@@ -340,6 +352,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
             Domain::new(min, max).expect("a bounding box with margins is never empty")
         }
     };
+    for x in &mut fluid.position {
+        domain.wrap(x);
+    }
     for (set, points) in [("fluid", &fluid.position), ("wall", &walls.position)] {
         if let Some(i) = points.iter().position(|x| !domain.contains(x)) {
             return Err(SceneError::Field {

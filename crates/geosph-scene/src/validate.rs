@@ -5,7 +5,7 @@ use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
 use geosph_fluid::{EosKind, IncompressibleConfig, WcsphConfig};
 use geosph_kernels::KernelKind;
 
-use crate::format::{FluidSpec, Region, Scene, SolverSpec, WallSpec};
+use crate::format::{FluidSpec, InitialVelocity, Region, Scene, SolverSpec, WallSpec};
 
 /// What is wrong with a scene.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -348,6 +348,32 @@ impl Scene {
                     }
                     finite_pairs(&format!("{field}.vertices"), vertices)?;
                 }
+            }
+        }
+        in_range("fluid.jitter", fluid.jitter, 0.0, 0.4)?;
+        match &fluid.velocity {
+            InitialVelocity::Rest => {}
+            InitialVelocity::Uniform(velocity) => {
+                point("fluid.velocity.Uniform", velocity, self.dimension)?
+            }
+            InitialVelocity::Stretch { centre, rate } => {
+                point("fluid.velocity.Stretch.centre", centre, self.dimension)?;
+                if !rate.is_finite() {
+                    return Err(fail(
+                        "fluid.velocity.Stretch.rate",
+                        format!("must be finite, got {rate}"),
+                    ));
+                }
+            }
+            InitialVelocity::TaylorGreen { speed, wavelength } => {
+                if self.dimension != 2 {
+                    return Err(fail(
+                        "fluid.velocity",
+                        "the Taylor–Green vortex exists only in 2D scenes",
+                    ));
+                }
+                positive("fluid.velocity.TaylorGreen.speed", *speed)?;
+                positive("fluid.velocity.TaylorGreen.wavelength", *wavelength)?;
             }
         }
         Ok(())
