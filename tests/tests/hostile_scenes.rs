@@ -81,8 +81,8 @@ const CASES: &[(&str, &str, &str)] = &[
     ("unknown kernel", "wendland-c2 => wendland-c3", "unknown kernel `wendland-c3`; expected one of"),
     ("end time zero", "end_time: 0.01 => end_time: 0.0", "`end_time`: must be a finite number > 0, got 0"),
     ("end time infinite", "end_time: 0.01 => end_time: inf", "`end_time`: must be a finite number > 0, got inf"),
-    ("CFL too large", "cfl: 0.25 => cfl: 0.9", "`solver.cfl`: must lie in (0, 0.5] for the explicit LeapFrog integrator, got 0.9"),
-    ("CFL zero", "cfl: 0.25 => cfl: 0.0", "`solver.cfl`: must lie in (0, 0.5]"),
+    ("CFL too large", "cfl: 0.25 => cfl: 1.5", "`solver.cfl`: must lie in (0, 1] for the explicit LeapFrog integrator, got 1.5"),
+    ("CFL zero", "cfl: 0.25 => cfl: 0.0", "`solver.cfl`: must lie in (0, 1]"),
     ("Tait exponent below 1", "gamma: 7.0 => gamma: 0.5", "`solver.equation_of_state.gamma`: must lie in [1, 10], got 0.5"),
     ("negative viscosity", "alpha: 0.02 => alpha: -0.1", "`solver.viscosity.alpha`: must lie in [0, 1], got -0.1"),
     ("diffusion too strong", "delta: 0.1 => delta: 2.0", "`solver.diffusion.delta`: must lie in [0, 1], got 2"),
@@ -149,7 +149,7 @@ const SOIL_CASES: &[(&str, &str, &str)] = &[
     ("negative friction angle", "friction_angle_deg: 19.8 => friction_angle_deg: -5.0", "`solver.constitutive.friction_angle_deg`: must lie in [0, 90) degrees, got -5"),
     ("negative cohesion", "cohesion: 0.0 => cohesion: -100.0", "`solver.constitutive.cohesion`: must lie in [0, inf), got -100"),
     ("dilatancy above friction", "dilatancy_angle_deg: 0.0 => dilatancy_angle_deg: 30.0", "`solver.constitutive.dilatancy_angle_deg`: must lie in [0, friction_angle_deg] degrees, got 30"),
-    ("soil CFL too large", "cfl: 0.2 => cfl: 0.8", "`solver.cfl`: must lie in (0, 0.5], got 0.8"),
+    ("soil CFL too large", "cfl: 0.2 => cfl: 1.2", "`solver.cfl`: must lie in (0, 1], got 1.2"),
     ("misspelt material field", "poisson_ratio: 0.3 => poison_ratio: 0.3", "poison_ratio"),
 ];
 

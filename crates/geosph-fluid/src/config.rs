@@ -88,6 +88,9 @@ pub struct WcsphConfig {
     pub shepard_every: usize,
     /// Clamp negative pressure to zero (default false).
     pub clamp_negative_pressure: bool,
+    /// Background pressure p_b in Pa, added to the equation of state (default 0; for confined
+    /// flows with suction such as a vortex, about ρ₀U²: see [`EquationOfState`]).
+    pub background_pressure: Real,
     /// Time integrator (default leap-frog).
     pub integrator: Scheme,
     /// Courant number of the acoustic time-step limit (default 0.25).
@@ -117,6 +120,7 @@ impl Default for WcsphConfig {
             xsph: 0.0,
             shepard_every: 0,
             clamp_negative_pressure: false,
+            background_pressure: 0.0,
             integrator: Scheme::LeapFrog,
             cfl: 0.25,
             reorder_every: 100,
@@ -300,6 +304,7 @@ impl<const D: usize> WcsphBuilder<'_, D> {
             kind: config.equation_of_state,
             rest_density: setup.rest_density,
             sound_speed: setup.sound_speed,
+            background_pressure: config.background_pressure,
         };
         let wall_condition = DummyAdami2012 {
             gravity: setup.gravity,

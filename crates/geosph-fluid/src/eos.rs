@@ -17,7 +17,7 @@ pub enum EosKind {
     Linear,
 }
 
-/// An equation of state with its reference density and sound speed.
+/// An equation of state with its reference density, sound speed and background pressure.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EquationOfState {
     /// The form.
@@ -26,6 +26,12 @@ pub struct EquationOfState {
     pub rest_density: Real,
     /// Reference sound speed c₀.
     pub sound_speed: Real,
+    /// Background pressure p_b added to the form, p = p_form(ρ) + p_b (Morris et al. 1997,
+    /// eq. 10, their p₀). A constant does not change the pressure gradient of the continuum,
+    /// but it keeps the pressure positive in confined flows with suction (e.g. a vortex), where
+    /// negative pressure makes SPH particles clump (the tensile instability, Swegle et al.
+    /// 1995). 0 for free-surface flows: p_b would pull the surface inwards.
+    pub background_pressure: Real,
 }
 
 impl EquationOfState {
@@ -44,17 +50,18 @@ impl EquationOfState {
                 } else {
                     ratio.powf(gamma)
                 };
-                b * (power - 1.0)
+                b * (power - 1.0) + self.background_pressure
             }
-            EosKind::Linear => c2 * (density - self.rest_density),
+            EosKind::Linear => c2 * (density - self.rest_density) + self.background_pressure,
         }
     }
 
     /// Density ρ(p), the inverse of [`EquationOfState::pressure`]. For Tait, pressures below
-    /// −B (which no density reaches) give ρ = 0.
+    /// p_b − B (which no density reaches) give ρ = 0.
     #[inline]
     pub fn density(&self, pressure: Real) -> Real {
         let c2 = self.sound_speed * self.sound_speed;
+        let pressure = pressure - self.background_pressure;
         match self.kind {
             EosKind::Tait { gamma } => {
                 let b = self.rest_density * c2 / gamma;
@@ -83,13 +90,18 @@ mod tests {
 
     #[test]
     fn inverse_and_sound_speed() {
-        for kind in [EosKind::Tait { gamma: 7.0 }, EosKind::Linear] {
+        for (kind, background_pressure) in [
+            (EosKind::Tait { gamma: 7.0 }, 0.0),
+            (EosKind::Linear, 0.0),
+            (EosKind::Tait { gamma: 7.0 }, 500.0),
+        ] {
             let eos = EquationOfState {
                 kind,
                 rest_density: 1000.0,
                 sound_speed: 50.0,
+                background_pressure,
             };
-            assert_eq!(eos.pressure(1000.0), 0.0);
+            assert_eq!(eos.pressure(1000.0), background_pressure);
             for rho in [990.0, 1000.5, 1012.0] {
                 assert_relative_eq!(eos.density(eos.pressure(rho)), rho, max_relative = 1e-12);
                 // c² = dp/dρ by central difference

@@ -25,7 +25,7 @@
 //! use geosph_kernels::KernelKind;
 //!
 //! // Tait: p = ρ₀c₀²/γ ((ρ/ρ₀)^γ − 1), 4.12 kPa for 1 % compression at c₀ = 20 m/s.
-//! let eos = EquationOfState { kind: EosKind::Tait { gamma: 7.0 }, rest_density: 1000.0, sound_speed: 20.0 };
+//! let eos = EquationOfState { kind: EosKind::Tait { gamma: 7.0 }, rest_density: 1000.0, sound_speed: 20.0, background_pressure: 0.0 };
 //! assert!((eos.pressure(1010.0) - 4122.0).abs() < 1.0);
 //!
 //! let dx = 0.05;

@@ -150,7 +150,7 @@ pub enum InitialVelocity {
     },
     /// The 2D Taylor–Green vortex of wavelength L and speed U (Taylor & Green 1937):
     /// u = −U cos(2πx/L) sin(2πy/L), v = U sin(2πx/L) cos(2πy/L), with its pressure
-    /// p = ρ₀U²/4 (cos(4πx/L) + cos(4πy/L)). In a periodic box of side L without gravity it
+    /// p = −ρ₀U²/4 (cos(4πx/L) + cos(4πy/L)) (lowest in the vortex centres). In a periodic box of side L without gravity it
     /// decays as e^(−8π²νt/L²) (kinetic energy e^(−16π²νt/L²)).
     TaylorGreen {
         /// Velocity amplitude U in m/s.

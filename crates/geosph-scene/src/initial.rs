@@ -70,11 +70,12 @@ pub(crate) fn set_velocity<const D: usize>(
                 let (x, y) = (fluid.position[i][0], fluid.position[i][1]);
                 fluid.velocity[i][0] = -speed * (k * x).cos() * (k * y).sin();
                 fluid.velocity[i][1] = speed * (k * x).sin() * (k * y).cos();
-                pressure[i] = 0.25
-                    * eos.rest_density
-                    * speed
-                    * speed
-                    * ((2.0 * k * x).cos() + (2.0 * k * y).cos());
+                pressure[i] = eos.background_pressure
+                    - 0.25
+                        * eos.rest_density
+                        * speed
+                        * speed
+                        * ((2.0 * k * x).cos() + (2.0 * k * y).cos());
                 fluid.density[i] = eos.density(pressure[i]);
             }
             fluid.pressure = Some(pressure);
@@ -122,6 +123,19 @@ mod tests {
             let u = -2.0 * (2.0 * pi * x[0]).cos() * (2.0 * pi * x[1]).sin();
             assert!((v[0] - u).abs() < 1e-12);
         }
+        // (0, 0) is a vortex centre (the velocity gradient there is a pure rotation): the
+        // pressure is lowest there, −ρ₀U²/2, and highest, +ρ₀U²/2, at the saddles such as (L/4, L/4).
+        let pressure = setup.fluid.pressure.as_ref().unwrap();
+        let at = |x: Real, y: Real| {
+            let i = setup
+                .fluid
+                .position
+                .iter()
+                .position(|p| (p[0] - x).abs() < 1e-9 && (p[1] - y).abs() < 1e-9)
+                .unwrap();
+            pressure[i]
+        };
+        assert!(at(0.025, 0.025) < -1900.0 && at(0.275, 0.275) > 1900.0);
         // The velocity field is divergence-free and has zero mean.
         let mean: Real = setup.fluid.velocity.iter().map(|v| v[0] + v[1]).sum();
         assert!(mean.abs() < 1e-9);

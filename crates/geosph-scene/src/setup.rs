@@ -209,12 +209,16 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     // Incompressible solvers use c₀ only as the velocity scale of artificial viscosity, and
     // recompute the density by summation; their particles start at ρ₀ with Tait's inverse.
     // Soil derives its wave speed from the elastic constants and starts at ρ = ρ₀.
-    let (equation_of_state, given_sound_speed) = match &scene.solver {
-        SolverSpec::Wcsph(config) => (config.equation_of_state, config.sound_speed),
+    let (equation_of_state, given_sound_speed, background_pressure) = match &scene.solver {
+        SolverSpec::Wcsph(config) => (
+            config.equation_of_state,
+            config.sound_speed,
+            config.background_pressure,
+        ),
         SolverSpec::Pcisph(_) | SolverSpec::Iisph(_) | SolverSpec::Dfsph(_) => {
-            (geosph_fluid::EosKind::Tait { gamma: 7.0 }, None)
+            (geosph_fluid::EosKind::Tait { gamma: 7.0 }, None, 0.0)
         }
-        SolverSpec::Soil(_) => (geosph_fluid::EosKind::Tait { gamma: 7.0 }, Some(0.0)),
+        SolverSpec::Soil(_) => (geosph_fluid::EosKind::Tait { gamma: 7.0 }, Some(0.0), 0.0),
     };
     let hydrostatic = fluid_spec.hydrostatic && !matches!(scene.solver, SolverSpec::Soil(_));
     let g = gravity.norm();
@@ -239,6 +243,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         kind: equation_of_state,
         rest_density,
         sound_speed,
+        background_pressure,
     };
     let mass = rest_density * dx.powi(D as i32);
     let mut fluid = Particles::at_rest(position, mass, rest_density);
@@ -248,7 +253,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         let mut pressure = vec![0.0; fluid.len()];
         for (i, (rho, p)) in fluid.density.iter_mut().zip(&mut pressure).enumerate() {
             let depth = (surface[i] - fluid.position[i][up]).max(0.0);
-            *p = rest_density * g * depth;
+            *p = rest_density * g * depth + background_pressure;
             *rho = eos.density(*p);
         }
         fluid.pressure = Some(pressure);

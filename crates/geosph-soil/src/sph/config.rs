@@ -138,7 +138,7 @@ pub struct SoilConfig {
     pub walls: SoilWallConfig,
     /// Geostatic stage before the run (default none: start from σ = 0).
     pub geostatic: Option<GeostaticConfig>,
-    /// Courant number of the elastic-wave limit, (0, 0.5] (default 0.2).
+    /// Courant number of the elastic-wave limit, (0, 1] (default 0.2).
     pub cfl: Real,
     /// Steps between Z-order sorts (default 100; 0 never).
     pub reorder_every: usize,
@@ -242,10 +242,10 @@ impl SoilConfig {
         if let Some(geostatic) = &self.geostatic {
             geostatic.validate()?;
         }
-        if !(self.cfl.is_finite() && self.cfl > 0.0 && self.cfl <= 0.5) {
+        if !(self.cfl.is_finite() && self.cfl > 0.0 && self.cfl <= 1.0) {
             return Err(ConfigError {
                 field: "cfl".into(),
-                message: format!("must lie in (0, 0.5], got {}", self.cfl),
+                message: format!("must lie in (0, 1], got {}", self.cfl),
             });
         }
         in_range("neighbour_skin", self.neighbour_skin, 0.0, 1.0)

@@ -1,0 +1,393 @@
+//! The cases of the harness: their scenes and their errors against a reference.
+
+use std::f64::consts::PI;
+use std::time::Instant;
+
+use geosph_core::{Particles, Real};
+use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
+use geosph_runner::{NoObserver, Observer, RunOptions, Summary};
+use geosph_scene::{Scene, SolverSpec};
+
+use crate::Config;
+
+/// A case with a reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Case {
+    /// 2D Taylor–Green vortex in a periodic unit box, U = 1 m/s, ν = 0.01 m²/s (Re = 100).
+    TaylorGreen,
+    /// Still water 0.5 m deep in a 1 m wide tank.
+    Hydrostatic,
+    /// Martin & Moyce's 2D dam break, column 1 m × 2 m.
+    DamBreak,
+    /// Bui et al.'s (2008) granular column collapse, 0.2 m × 0.1 m.
+    Collapse,
+    /// A level elastic soil layer 0.1 m deep, periodic over 0.2 m, under gravity (geostatic
+    /// stage only).
+    K0Column,
+}
+
+impl Case {
+    /// Every case, in report order.
+    pub const ALL: [Case; 5] = [
+        Case::TaylorGreen,
+        Case::Hydrostatic,
+        Case::DamBreak,
+        Case::Collapse,
+        Case::K0Column,
+    ];
+
+    /// The name used in files and tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Case::TaylorGreen => "taylor-green",
+            Case::Hydrostatic => "hydrostatic",
+            Case::DamBreak => "dam-break",
+            Case::Collapse => "collapse",
+            Case::K0Column => "k0-column",
+        }
+    }
+
+    /// The case of `name`.
+    pub fn from_name(name: &str) -> Option<Case> {
+        Case::ALL.into_iter().find(|case| case.name() == name)
+    }
+
+    /// Whether the case is soil (run by the soil solver only).
+    pub fn is_soil(self) -> bool {
+        matches!(self, Case::Collapse | Case::K0Column)
+    }
+
+    /// Simulated end time in s (`quick`: the shorter time of the CI matrix).
+    pub fn end_time(self, quick: bool) -> Real {
+        match (self, quick) {
+            // Half a turnover L/U: by then the saddle points have stretched the particle
+            // lattice by e^(2πUt/L) ≈ 23 and, without particle shifting, the error grows fast.
+            (Case::TaylorGreen, false) => 0.5,
+            (Case::TaylorGreen, true) => 0.2,
+            (Case::Hydrostatic, false) => 1.0,
+            (Case::Hydrostatic, true) => 0.4,
+            (Case::DamBreak, false) => 0.5,
+            (Case::DamBreak, true) => 0.3,
+            (Case::Collapse, false) => 1.0,
+            (Case::Collapse, true) => 0.15,
+            (Case::K0Column, _) => 0.01,
+        }
+    }
+
+    /// What the error is, for the report.
+    pub fn error_definition(self) -> &'static str {
+        match self {
+            Case::TaylorGreen => {
+                "relative L2 error of the velocity at the end time, ‖v − v_exact‖/‖v_exact‖ over \
+                 the particles, with v_exact the Taylor–Green field (Taylor & Green 1937) decayed \
+                 by e^(−8π²νt/L²) and evaluated at each particle's position"
+            }
+            Case::Hydrostatic => {
+                "RMS over the particle layers (all but the top three) of (p̄ − ρ₀g(H − y))/(ρ₀gH), \
+                 p̄ the layer's pressure averaged over the second half of the run"
+            }
+            Case::DamBreak => {
+                "mean of the RMS differences from Martin & Moyce (1952) of the front Z = z/a \
+                 against T = t√(2g/a) and of the column height H/(2a) against T = t√(g/a), over \
+                 the measured points within the run"
+            }
+            Case::Collapse => {
+                "|L_f − L_f,finest|/L: runout L_f at the end time against that of the finest run \
+                 of the same solver, kernel and time-step factor; for the finest run, the \
+                 Richardson estimate |L_f,finest − L_f,next| / (2^p − 1) with the observed order p \
+                 (p = 1 when it cannot be observed)"
+            }
+            Case::K0Column => {
+                "the larger of the mean relative error of σ_v against ρg(H − y) and the relative \
+                 error of the mean σ_h/σ_v against K₀ = ν/(1 − ν) = 0.4286, below the top two \
+                 layers, after the geostatic stage"
+            }
+        }
+    }
+
+    /// The scene of `config`.
+    pub fn scene(self, config: &Config, quick: bool) -> Result<Scene, String> {
+        let end_time = self.end_time(quick);
+        let mut scene = match self {
+            Case::TaylorGreen => Scene::from_ron(&format!(
+                "Scene(name: \"taylor-green\", dimension: 2, dx: 0.1, gravity: [0.0, 0.0],
+                   end_time: 1.0,
+                   domain: (min: [0.0, 0.0], max: [1.0, 1.0], periodic: [true, true]),
+                   fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, 1.0])], hydrostatic: false,
+                           velocity: TaylorGreen(speed: {TG_SPEED}, wavelength: {TG_LENGTH})),
+                   solver: Wcsph(()))"
+            )),
+            Case::Hydrostatic => Scene::from_ron(
+                "Scene(name: \"hydrostatic\", dimension: 2, dx: 0.1, end_time: 1.0,
+                   fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, 0.5])]),
+                   walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0])],
+                   solver: Wcsph(()))",
+            ),
+            Case::DamBreak => {
+                Scene::from_ron(include_str!("../../../data/scenes/dam-break-2d.ron"))
+            }
+            Case::Collapse => {
+                Scene::from_ron(include_str!("../../../data/scenes/granular-collapse.ron"))
+            }
+            Case::K0Column => Scene::from_ron(
+                "Scene(name: \"k0-column\", dimension: 2, dx: 0.005, smoothing_ratio: 1.5,
+                   end_time: 0.01,
+                   domain: (min: [0.0, -0.1], max: [0.2, 0.3], periodic: [true, false]),
+                   soil: (density: 2650.0, blocks: [Box(min: [0.0, 0.0], max: [0.2, 0.1])]),
+                   walls: [Polyline(points: [(0.0, 0.0), (0.2, 0.0)], layers: 4)],
+                   solver: Soil((
+                       constitutive: LinearElastic(youngs_modulus: 0.84e6, poisson_ratio: 0.3),
+                       geostatic: (),
+                   )))",
+            ),
+        }
+        .map_err(|error| error.to_string())?;
+        scene.dx = config.dx;
+        scene.kernel = config.kernel.to_owned();
+        scene.end_time = end_time;
+        scene.output.interval = end_time;
+        scene.output.vtk = false;
+        scene.output.sample_interval = match self {
+            Case::Hydrostatic => 0.01,
+            Case::TaylorGreen => end_time / 10.0,
+            _ => scene.output.sample_interval.min(end_time / 10.0),
+        };
+        scene.solver = solver(self, config, scene.solver)?;
+        Ok(scene)
+    }
+
+    /// Runs `config` and measures it; `Err` with a one-line reason when the run fails.
+    pub fn run(self, config: &Config, quick: bool) -> Result<Outcome, String> {
+        let scene = self.scene(config, quick)?;
+        let options = RunOptions::default();
+        let started = Instant::now();
+        let (summary, value, error) = match self {
+            Case::TaylorGreen => {
+                let mut observer = TaylorGreenError::default();
+                let summary = run(&scene, &options, &mut observer)?;
+                (summary, observer.error, observer.error)
+            }
+            Case::Hydrostatic => {
+                let mut observer = LayerPressure::new(scene.dx, 0.5 * scene.end_time);
+                let summary = run(&scene, &options, &mut observer)?;
+                let error = observer.error();
+                (summary, error, error)
+            }
+            Case::DamBreak => {
+                let report = dam_break::run(&scene, &options).map_err(|e| e.to_string())?;
+                let validation = report.validation.ok_or("the column is not n² = 2")?;
+                if validation.front_points == 0 || validation.height_points == 0 {
+                    return Err("no measured point within the run".into());
+                }
+                let error = 0.5 * (validation.front_rms + validation.height_rms);
+                (report.summary, validation.front_rms, error)
+            }
+            Case::Collapse => {
+                let report = slope_failure::run(&scene, &options).map_err(|e| e.to_string())?;
+                // The error needs the finest run: see `matrix::richardson`.
+                (report.summary, report.last.front, Real::NAN)
+            }
+            Case::K0Column => {
+                let summary = run(&scene, &options, &mut NoObserver)?;
+                let geostatic = summary
+                    .geostatic
+                    .clone()
+                    .ok_or("the scene has no geostatic stage")?;
+                let k0 = 0.3 / 0.7;
+                let error = geostatic
+                    .vertical_stress_error_mean
+                    .max((geostatic.lateral_ratio.1 / k0 - 1.0).abs());
+                (summary, geostatic.lateral_ratio.1, error)
+            }
+        };
+        let wall_time = started.elapsed().as_secs_f64();
+        let steps = summary.steps + summary.geostatic.as_ref().map_or(0, |g| g.steps);
+        Ok(Outcome {
+            particles: summary.fluid_particles,
+            steps,
+            wall_time,
+            value,
+            error,
+        })
+    }
+}
+
+/// What [`Case::run`] measured; the harness adds the configuration and the rates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outcome {
+    /// Moving particles.
+    pub particles: usize,
+    /// Time steps, geostatic stage included.
+    pub steps: usize,
+    /// Wall-clock time, s.
+    pub wall_time: Real,
+    /// The case's measured quantity.
+    pub value: Real,
+    /// The error (NaN until [`crate::matrix::richardson`] for the collapse).
+    pub error: Real,
+}
+
+const TG_SPEED: Real = 1.0;
+const TG_LENGTH: Real = 1.0;
+/// ν = U L / Re with Re = 100.
+const TG_VISCOSITY: Real = TG_SPEED * TG_LENGTH / 100.0;
+
+fn run<O>(scene: &Scene, options: &RunOptions, observer: &mut O) -> Result<Summary, String>
+where
+    O: Observer<2> + Observer<3> + Send,
+{
+    geosph_runner::run(scene, options, observer).map_err(|error| error.to_string())
+}
+
+/// The solver of `config` for `case`: the defaults of the named fluid solver (or the soil
+/// scene's `own` solver), the variant, the Courant number scaled by the time-step factor, and a
+/// laminar viscosity for the Taylor–Green vortex.
+fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, String> {
+    let laminar = ViscosityConfig::Laminar {
+        kinematic_viscosity: TG_VISCOSITY,
+    };
+    let mut spec = if config.solver == "soil" {
+        if !case.is_soil() {
+            return Err(format!("{} is not a soil case", case.name()));
+        }
+        match own {
+            SolverSpec::Soil(mut soil) => {
+                soil.cfl *= config.dt_factor;
+                SolverSpec::Soil(soil)
+            }
+            _ => return Err(format!("the {} scene has no soil solver", case.name())),
+        }
+    } else {
+        if case.is_soil() {
+            return Err(format!("{} is a soil case", case.name()));
+        }
+        SolverSpec::from_name(config.solver)
+            .ok_or_else(|| format!("unknown solver `{}`", config.solver))?
+    };
+    match &mut spec {
+        SolverSpec::Wcsph(wcsph) => {
+            wcsph.cfl *= config.dt_factor;
+            wcsph.diffusion = match config.variant {
+                "molteni" | "default" => DiffusionConfig::Molteni { delta: 0.1 },
+                "antuono" => DiffusionConfig::Antuono { delta: 0.1 },
+                "none" => DiffusionConfig::None,
+                other => return Err(format!("unknown WCSPH variant `{other}`")),
+            };
+            if case == Case::TaylorGreen {
+                wcsph.viscosity = laminar;
+                // Suction down to −ρ₀U²/2 in the vortex cores: p_b = ρ₀U² keeps p > 0.
+                wcsph.background_pressure = 1000.0 * TG_SPEED * TG_SPEED;
+            }
+        }
+        SolverSpec::Pcisph(incompressible)
+        | SolverSpec::Iisph(incompressible)
+        | SolverSpec::Dfsph(incompressible) => {
+            incompressible.cfl *= config.dt_factor;
+            if case == Case::TaylorGreen {
+                incompressible.viscosity = laminar;
+            }
+        }
+        SolverSpec::Soil(_) => {}
+    }
+    Ok(spec)
+}
+
+/// The relative L2 velocity error of the Taylor–Green vortex at the latest sample.
+#[derive(Clone, Debug, Default)]
+struct TaylorGreenError {
+    error: Real,
+}
+
+impl TaylorGreenError {
+    fn measure<const D: usize>(&mut self, time: Real, fluid: &Particles<D>) {
+        let k = 2.0 * PI / TG_LENGTH;
+        let decay = (-2.0 * TG_VISCOSITY * k * k * time).exp();
+        let (mut difference, mut norm) = (0.0, 0.0);
+        for (x, v) in fluid.position.iter().zip(&fluid.velocity) {
+            let u = -TG_SPEED * decay * (k * x[0]).cos() * (k * x[1]).sin();
+            let w = TG_SPEED * decay * (k * x[0]).sin() * (k * x[1]).cos();
+            difference += (v[0] - u).powi(2) + (v[1] - w).powi(2);
+            norm += u * u + w * w;
+        }
+        self.error = (difference / norm).sqrt();
+    }
+}
+
+/// Layer-averaged pressure from `from` on, against ρ₀ g (H − y).
+#[derive(Clone, Debug)]
+struct LayerPressure {
+    dx: Real,
+    from: Real,
+    samples: usize,
+    /// Per layer: Σ y, Σ p, Σ count over the samples.
+    sums: Vec<(Real, Real, Real)>,
+}
+
+const DEPTH: Real = 0.5;
+const WATER: Real = 1000.0;
+const GRAVITY: Real = 9.81;
+
+impl LayerPressure {
+    fn new(dx: Real, from: Real) -> Self {
+        Self {
+            dx,
+            from,
+            samples: 0,
+            sums: Vec::new(),
+        }
+    }
+
+    fn measure<const D: usize>(&mut self, time: Real, fluid: &Particles<D>) {
+        let Some(pressure) = &fluid.pressure else {
+            return;
+        };
+        if time < self.from - 1e-9 {
+            return;
+        }
+        let layers = (DEPTH / self.dx).round() as usize;
+        self.sums.resize(layers, (0.0, 0.0, 0.0));
+        for (x, p) in fluid.position.iter().zip(pressure) {
+            let layer = (x[D - 1] / self.dx).floor();
+            if layer >= 0.0 && (layer as usize) < layers {
+                let sum = &mut self.sums[layer as usize];
+                sum.0 += x[D - 1];
+                sum.1 += p;
+                sum.2 += 1.0;
+            }
+        }
+        self.samples += 1;
+    }
+
+    fn error(&self) -> Real {
+        let scale = WATER * GRAVITY * DEPTH;
+        let kept = self.sums.len().saturating_sub(3);
+        let squares: Vec<Real> = self.sums[..kept]
+            .iter()
+            .filter(|sum| sum.2 > 0.0)
+            .map(|&(y, p, n)| {
+                let (y, p) = (y / n, p / n);
+                ((p - WATER * GRAVITY * (DEPTH - y)) / scale).powi(2)
+            })
+            .collect();
+        if self.samples == 0 || squares.is_empty() {
+            return Real::NAN;
+        }
+        (squares.iter().sum::<Real>() / squares.len() as Real).sqrt()
+    }
+}
+
+macro_rules! observe_in_both_dimensions {
+    ($observer:ty) => {
+        impl<const D: usize> Observer<D> for $observer {
+            fn columns(&self) -> Vec<&'static str> {
+                Vec::new()
+            }
+            fn sample(&mut self, time: Real, fluid: &Particles<D>, _row: &mut Vec<Real>) {
+                self.measure(time, fluid);
+            }
+        }
+    };
+}
+
+observe_in_both_dimensions!(TaylorGreenError);
+observe_in_both_dimensions!(LayerPressure);

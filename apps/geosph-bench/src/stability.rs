@@ -1,0 +1,545 @@
+//! Stability under stress, with criteria that can fail:
+//! - the largest stable time-step factor of each solver × kernel, by bisection on a dam break
+//!   through its wall impact (the soil: on the column collapse);
+//! - a long run: a still tank for 10⁵ WCSPH steps, whose free surface must not drift by more
+//!   than one dx and whose pressure error must not grow;
+//! - a start from a lattice jittered by ±0.3 dx, which must settle;
+//! - a 20 m/s impact of a water block on a wall, which no particle may cross;
+//! - a cohesive soil block pulled apart, whose particles must not clump (tensile instability).
+//!
+//! A run "blows up" when the runner stops it (NaN or infinite state, density error beyond
+//! 20 %, a particle outside the domain: `geosph_runner::health`).
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use geosph_core::{Particles, Real};
+use geosph_fluid::config::DiffusionConfig;
+use geosph_runner::{Observer, RunOptions};
+use geosph_scene::{InitialVelocity, Scene, SolverSpec};
+
+use crate::matrix::{FLUID_SOLVERS, KERNELS};
+use crate::{Case, Config};
+
+/// One stability result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StabilityResult {
+    /// The test, e.g. "largest time-step factor".
+    pub test: &'static str,
+    /// What was tested, e.g. "dfsph/wendland-c2".
+    pub subject: String,
+    /// What was measured, in words and figures.
+    pub measured: String,
+    /// The criterion.
+    pub criterion: &'static str,
+    /// Whether the criterion holds.
+    pub passed: bool,
+    /// Wall time of the test, s.
+    pub wall_time: Real,
+}
+
+/// The Courant number bound the scene format accepts over the solver's default: the largest
+/// time-step factor a scene can ask for.
+fn factor_bound(solver: &str) -> Real {
+    match solver {
+        "wcsph" => 1.0 / 0.25,
+        "soil" => 1.0 / 0.2,
+        _ => 1.0 / 0.4,
+    }
+}
+
+/// Largest stable time-step factor of `solver` with `kernel`, by bisection between the default
+/// (1) and the scene format's bound, on the dam break through its wall impact (the collapse for
+/// soil). Stable: the run ends without the runner stopping it and with a finite error.
+pub fn largest_time_step_factor(
+    solver: &'static str,
+    kernel: &'static str,
+    quick: bool,
+) -> StabilityResult {
+    let started = Instant::now();
+    let (case, dx) = match (solver, quick) {
+        ("soil", true) => (Case::Collapse, 0.02),
+        ("soil", false) => (Case::Collapse, 0.01),
+        (_, true) => (Case::DamBreak, 0.1),
+        (_, false) => (Case::DamBreak, 0.04),
+    };
+    let stable = |dt_factor: Real| -> Result<(), String> {
+        let config = Config {
+            case,
+            solver,
+            kernel,
+            variant: if solver == "wcsph" {
+                "molteni"
+            } else {
+                "default"
+            },
+            dx,
+            dt_factor,
+        };
+        let mut scene = case.scene(&config, false)?;
+        // Through the impact on the far wall (at t ≈ 0.6 s) for the dam break.
+        scene.end_time = if case == Case::DamBreak {
+            0.9
+        } else {
+            scene.end_time
+        };
+        if case == Case::Collapse {
+            slope_failure::run(&scene, &RunOptions::default())
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        } else {
+            dam_break::run(&scene, &RunOptions::default())
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        }
+    };
+    let bound = factor_bound(solver);
+    let (measured, passed) = match stable(1.0) {
+        Err(reason) => (
+            format!("unstable at the default time step: {reason}"),
+            false,
+        ),
+        Ok(()) => match stable(bound) {
+            Ok(()) => (
+                format!("stable up to the scene format's bound, {bound}× the default"),
+                true,
+            ),
+            Err(reason) => {
+                let (mut low, mut high, mut last_reason) = (1.0, bound, reason);
+                for _ in 0..if quick { 2 } else { 4 } {
+                    let middle = 0.5 * (low + high);
+                    match stable(middle) {
+                        Ok(()) => low = middle,
+                        Err(reason) => {
+                            high = middle;
+                            last_reason = reason;
+                        }
+                    }
+                }
+                (
+                    format!("stable at {low:.3}×, unstable at {high:.3}× ({last_reason})"),
+                    true,
+                )
+            }
+        },
+    };
+    StabilityResult {
+        test: "largest time-step factor",
+        subject: format!("{solver}/{kernel} ({} dx = {dx})", case.name()),
+        measured,
+        criterion: "the default time step is stable",
+        passed,
+        wall_time: started.elapsed().as_secs_f64(),
+    }
+}
+
+/// Free-surface height, pressure error and RMS speed of a still tank, sampled over a run.
+#[derive(Clone, Debug, Default)]
+struct TankWatch {
+    dx: Real,
+    depth: Real,
+    /// (t, surface height, pressure error, RMS speed) per sample.
+    samples: Vec<[Real; 4]>,
+}
+
+impl TankWatch {
+    fn measure<const D: usize>(&mut self, time: Real, fluid: &Particles<D>) {
+        let up = D - 1;
+        // Highest particle per column of width dx, averaged.
+        let mut tops: Vec<(i64, Real)> = fluid
+            .position
+            .iter()
+            .map(|x| ((x[0] / self.dx).floor() as i64, x[up]))
+            .collect();
+        tops.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+        tops.dedup_by_key(|top| top.0);
+        let surface =
+            tops.iter().map(|top| top.1).sum::<Real>() / tops.len().max(1) as Real + 0.5 * self.dx;
+        let scale = 1000.0 * 9.81 * self.depth;
+        let pressure_error = fluid.pressure.as_ref().map_or(Real::NAN, |pressure| {
+            let deep: Vec<Real> = fluid
+                .position
+                .iter()
+                .zip(pressure)
+                .filter(|(x, _)| x[up] < self.depth - 3.0 * self.dx)
+                .map(|(x, p)| ((p - 1000.0 * 9.81 * (self.depth - x[up])) / scale).powi(2))
+                .collect();
+            (deep.iter().sum::<Real>() / deep.len().max(1) as Real).sqrt()
+        });
+        let speed = (fluid
+            .velocity
+            .iter()
+            .map(|v| v.norm_squared())
+            .sum::<Real>()
+            / fluid.len().max(1) as Real)
+            .sqrt();
+        self.samples.push([time, surface, pressure_error, speed]);
+    }
+}
+
+impl<const D: usize> Observer<D> for TankWatch {
+    fn columns(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+    fn sample(&mut self, time: Real, fluid: &Particles<D>, _row: &mut Vec<Real>) {
+        self.measure(time, fluid);
+    }
+}
+
+fn tank_scene(solver: &str, dx: Real, end_time: Real, jitter: Real) -> Result<Scene, String> {
+    let mut scene = Scene::from_ron(&format!(
+        "Scene(name: \"tank\", dimension: 2, dx: {dx}, end_time: {end_time},
+           output: (interval: {end_time}, sample_interval: {sample}, vtk: false),
+           fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, 0.5])], jitter: {jitter}),
+           walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0])],
+           solver: Wcsph(()))",
+        sample = end_time / 100.0
+    ))
+    .map_err(|error| error.to_string())?;
+    scene.solver = SolverSpec::from_name(solver).ok_or("unknown solver")?;
+    Ok(scene)
+}
+
+/// The long run: a still tank, 0.5 m deep, dx = 0.05 m, for 10⁵ WCSPH steps (10⁴ `quick`);
+/// the incompressible solvers for the same simulated time.
+pub fn long_run(solver: &'static str, antuono: bool, quick: bool) -> StabilityResult {
+    let started = Instant::now();
+    let dx = 0.05;
+    // WCSPH: dt = 0.25 · 1.3 dx / c₀, c₀ = 10 √(2 g H) = 31.3 m/s → 5.19 × 10⁻⁴ s.
+    let end_time = if quick { 5.2 } else { 52.0 };
+    let mut watch = TankWatch {
+        dx,
+        depth: 0.5,
+        samples: Vec::new(),
+    };
+    let outcome = tank_scene(solver, dx, end_time, 0.0).and_then(|mut scene| {
+        if let (SolverSpec::Wcsph(wcsph), true) = (&mut scene.solver, antuono) {
+            wcsph.diffusion = DiffusionConfig::Antuono { delta: 0.1 };
+        }
+        geosph_runner::run(&scene, &RunOptions::default(), &mut watch).map_err(|e| e.to_string())
+    });
+    let (measured, passed) = match outcome {
+        Err(reason) => (format!("blew up: {reason}"), false),
+        Ok(summary) => {
+            let samples = &watch.samples;
+            let first = samples[0][1];
+            let drift = samples
+                .iter()
+                .map(|s| (s[1] - first).abs())
+                .fold(0.0, Real::max);
+            let tenth = (samples.len() / 10).max(1);
+            let mean =
+                |part: &[[Real; 4]]| part.iter().map(|s| s[2]).sum::<Real>() / part.len() as Real;
+            // Skip the first sample (the start, before any acoustic settling).
+            let early = mean(&samples[1..=tenth]);
+            let late = mean(&samples[samples.len() - tenth..]);
+            (
+                format!(
+                    "{} steps to t = {end_time} s: surface drift {:.2} dx; pressure error {:.2} % early, {:.2} % late",
+                    summary.steps,
+                    drift / dx,
+                    100.0 * early,
+                    100.0 * late
+                ),
+                drift <= dx && late <= early.max(0.005) * 1.5,
+            )
+        }
+    };
+    StabilityResult {
+        test: "long still tank",
+        subject: if antuono {
+            format!("{solver}+antuono")
+        } else {
+            solver.to_owned()
+        },
+        measured,
+        criterion: "surface within one dx, late pressure error ≤ 1.5 × early (or 0.75 %)",
+        passed,
+        wall_time: started.elapsed().as_secs_f64(),
+    }
+}
+
+/// A still tank started from a lattice jittered by ±0.3 dx (dx = 0.025 m): it must settle to
+/// an RMS speed below 5 % of √(g H) and a pressure error below 5 % of ρ₀ g H by t = 2 s.
+pub fn jittered_start(solver: &'static str, quick: bool) -> StabilityResult {
+    let started = Instant::now();
+    let (dx, end_time) = if quick { (0.05, 1.0) } else { (0.025, 2.0) };
+    let mut watch = TankWatch {
+        dx,
+        depth: 0.5,
+        samples: Vec::new(),
+    };
+    let outcome = tank_scene(solver, dx, end_time, 0.3).and_then(|scene| {
+        geosph_runner::run(&scene, &RunOptions::default(), &mut watch).map_err(|e| e.to_string())
+    });
+    let scale = (9.81 * 0.5 as Real).sqrt();
+    let (measured, passed) = match outcome {
+        Err(reason) => (format!("blew up: {reason}"), false),
+        Ok(_) => {
+            let &[_, _, pressure_error, speed] = watch.samples.last().expect("sampled");
+            let peak = watch.samples.iter().map(|s| s[3]).fold(0.0, Real::max);
+            (
+                format!(
+                    "peak RMS speed {:.3} √(gH), final {:.4} √(gH); final pressure error {:.2} %",
+                    peak / scale,
+                    speed / scale,
+                    100.0 * pressure_error
+                ),
+                speed < 0.05 * scale && pressure_error < 0.05,
+            )
+        }
+    };
+    StabilityResult {
+        test: "jittered start (±0.3 dx)",
+        subject: format!("{solver} (dx = {dx})"),
+        measured,
+        criterion: "settles: RMS speed < 0.05 √(gH), pressure error < 5 %",
+        passed,
+        wall_time: started.elapsed().as_secs_f64(),
+    }
+}
+
+/// The extent of the particles at the last sample, and how close two came.
+#[derive(Clone, Debug)]
+struct Extent {
+    min: Real,
+    max: Real,
+    top: Real,
+    /// Smallest distance between two particles over the nominal spacing, over all samples.
+    closest: Real,
+    dx: Real,
+    watch_pairs: bool,
+}
+
+impl Extent {
+    fn new(dx: Real, watch_pairs: bool) -> Self {
+        Self {
+            min: Real::NAN,
+            max: Real::NAN,
+            top: Real::NAN,
+            closest: Real::INFINITY,
+            dx,
+            watch_pairs,
+        }
+    }
+}
+
+impl<const D: usize> Observer<D> for Extent {
+    fn columns(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+    fn sample(&mut self, _time: Real, fluid: &Particles<D>, _row: &mut Vec<Real>) {
+        self.min = fluid
+            .position
+            .iter()
+            .map(|x| x[0])
+            .fold(Real::INFINITY, Real::min);
+        self.max = fluid
+            .position
+            .iter()
+            .map(|x| x[0])
+            .fold(Real::NEG_INFINITY, Real::max);
+        self.top = fluid
+            .position
+            .iter()
+            .map(|x| x[D - 1])
+            .fold(Real::NEG_INFINITY, Real::max);
+        if self.watch_pairs {
+            let mut closest = Real::INFINITY;
+            for (i, a) in fluid.position.iter().enumerate() {
+                for b in &fluid.position[i + 1..] {
+                    closest = closest.min((a - b).norm_squared());
+                }
+            }
+            self.closest = self.closest.min(closest.sqrt() / self.dx);
+        }
+    }
+}
+
+/// A 0.2 m water block thrown at 20 m/s against the left wall of a closed 1 m tank
+/// (dx = 0.01 m): no particle may cross a wall.
+pub fn impact(solver: &'static str, quick: bool) -> StabilityResult {
+    let started = Instant::now();
+    let dx = if quick { 0.02 } else { 0.01 };
+    let mut extent = Extent::new(dx, false);
+    let outcome = Scene::from_ron(&format!(
+        "Scene(name: \"impact\", dimension: 2, dx: {dx}, end_time: 0.1,
+           output: (interval: 0.1, sample_interval: 0.005, vtk: false),
+           fluid: (blocks: [Box(min: [0.4, 0.0], max: [0.6, 0.2])], hydrostatic: false,
+                   velocity: Uniform([-20.0, 0.0])),
+           walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0], open_top: false)],
+           solver: Wcsph(()))"
+    ))
+    .map_err(|error| error.to_string())
+    .and_then(|mut scene| {
+        scene.solver = SolverSpec::from_name(solver).ok_or("unknown solver")?;
+        geosph_runner::run(&scene, &RunOptions::default(), &mut extent).map_err(|e| e.to_string())
+    });
+    let (measured, passed) = match outcome {
+        Err(reason) => (format!("blew up: {reason}"), false),
+        Ok(summary) => (
+            format!(
+                "{} steps; particles in x = {:.3}…{:.3} m, below y = {:.3} m at the end; max density error {:.1} %",
+                summary.steps,
+                extent.min,
+                extent.max,
+                extent.top,
+                100.0 * summary.max_density_error
+            ),
+            extent.min > 0.0 && extent.max < 1.0 && extent.top < 1.0,
+        ),
+    };
+    StabilityResult {
+        test: "20 m/s impact",
+        subject: format!("{solver} (dx = {dx})"),
+        measured,
+        criterion: "completes, no particle through a wall",
+        passed,
+        wall_time: started.elapsed().as_secs_f64(),
+    }
+}
+
+/// A cohesive Drucker–Prager block (c = 10 kPa, φ = 30°, E = 10 MPa), 0.1 m square, without
+/// gravity or walls, pulled apart at 2 s⁻¹ for 0.05 s: the closest two particles must stay
+/// more than half a spacing apart (the tensile instability pairs them up, Swegle et al. 1995),
+/// with and without Gray et al.'s (2001) artificial stress.
+pub fn tension(artificial_stress: bool, quick: bool) -> StabilityResult {
+    let started = Instant::now();
+    let dx = if quick { 0.005 } else { 0.0025 };
+    let stress = if artificial_stress {
+        "artificial_stress: Some((epsilon: 0.3, exponent: 4.0)),"
+    } else {
+        ""
+    };
+    let mut extent = Extent::new(dx, true);
+    let outcome = Scene::from_ron(&format!(
+        "Scene(name: \"tension\", dimension: 2, dx: {dx}, end_time: 0.05, gravity: [0.0, 0.0],
+           output: (interval: 0.05, sample_interval: 0.005, vtk: false),
+           soil: (density: 2000.0, blocks: [Box(min: [0.0, 0.0], max: [0.1, 0.1])]),
+           solver: Soil((
+               constitutive: DruckerPrager(
+                   material: (youngs_modulus: 1.0e7, poisson_ratio: 0.3, friction_angle_deg: 30.0,
+                              cohesion: 1.0e4, dilatancy_angle_deg: 0.0),
+                   algorithm: Bui2008,
+               ),
+               {stress}
+           )))"
+    ))
+    .map_err(|error| error.to_string())
+    .and_then(|mut scene| {
+        if let Some(fluid) = &mut scene.fluid {
+            fluid.velocity = InitialVelocity::Stretch {
+                centre: vec![0.05, 0.05],
+                rate: 2.0,
+            };
+        }
+        geosph_runner::run(&scene, &RunOptions::default(), &mut extent).map_err(|e| e.to_string())
+    });
+    let (measured, passed) = match outcome {
+        Err(reason) => (format!("blew up: {reason}"), false),
+        Ok(summary) => (
+            format!(
+                "{} steps; closest pair {:.2} dx",
+                summary.steps, extent.closest
+            ),
+            extent.closest > 0.5,
+        ),
+    };
+    StabilityResult {
+        test: "cohesive block in tension",
+        subject: format!(
+            "soil, {} (dx = {dx})",
+            if artificial_stress {
+                "artificial stress ε = 0.3"
+            } else {
+                "no artificial stress"
+            }
+        ),
+        measured,
+        criterion: "no clumping: closest pair > 0.5 dx",
+        passed,
+        wall_time: started.elapsed().as_secs_f64(),
+    }
+}
+
+/// Every stability test, printing a line per test to standard error. `quick`: coarse and short
+/// versions, WCSPH and DFSPH with Wendland C2 only for the time-step bisection.
+pub fn run_all(quick: bool) -> Vec<StabilityResult> {
+    let mut tests: Vec<Box<dyn Fn() -> StabilityResult>> = Vec::new();
+    let solvers: &[&'static str] = if quick {
+        &["wcsph", "dfsph"]
+    } else {
+        &FLUID_SOLVERS
+    };
+    let kernels: &[&'static str] = if quick { &["wendland-c2"] } else { &KERNELS };
+    for &solver in solvers {
+        for &kernel in kernels {
+            tests.push(Box::new(move || {
+                largest_time_step_factor(solver, kernel, quick)
+            }));
+        }
+    }
+    tests.push(Box::new(move || {
+        largest_time_step_factor("soil", "wendland-c2", quick)
+    }));
+    for &solver in solvers {
+        tests.push(Box::new(move || long_run(solver, false, quick)));
+        if solver == "wcsph" {
+            tests.push(Box::new(move || long_run(solver, true, quick)));
+        }
+        tests.push(Box::new(move || jittered_start(solver, quick)));
+        tests.push(Box::new(move || impact(solver, quick)));
+    }
+    for artificial_stress in [false, true] {
+        tests.push(Box::new(move || tension(artificial_stress, quick)));
+    }
+    let count = tests.len();
+    tests
+        .iter()
+        .enumerate()
+        .map(|(index, test)| {
+            let result = test();
+            eprintln!(
+                "[{:>2}/{count}] {} — {}: {} ({}, {:.1} s)",
+                index + 1,
+                result.test,
+                result.subject,
+                result.measured,
+                if result.passed { "pass" } else { "FAIL" },
+                result.wall_time
+            );
+            result
+        })
+        .collect()
+}
+
+/// The stability map as Markdown.
+pub fn markdown(results: &[StabilityResult], header: &str) -> String {
+    let mut text = String::from(header);
+    text.push_str(
+        "\nA run is stopped as blown up by the runner's health check (`geosph_runner::health`): \
+         a non-finite position, velocity or time step, a density error beyond 20 %, or a \
+         particle outside the domain.\n",
+    );
+    let mut test = "";
+    for result in results {
+        if result.test != test {
+            test = result.test;
+            let _ = write!(
+                text,
+                "\n## {test}\n\nCriterion: {}.\n\n| subject | measured | result | wall time (s) |\n\
+                 | --- | --- | --- | --- |\n",
+                result.criterion
+            );
+        }
+        let _ = writeln!(
+            text,
+            "| {} | {} | {} | {:.1} |",
+            result.subject,
+            result.measured.replace('|', "/"),
+            if result.passed { "pass" } else { "**FAIL**" },
+            result.wall_time
+        );
+    }
+    text
+}

@@ -1,0 +1,79 @@
+//! The harness cannot rot: its quick matrix runs in CI, and every configuration must produce a
+//! finite, positive error and a wall time, with the report, the CSV and one plot per case.
+//! The fast stability criteria that hold are asserted here too.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use geosph_bench::stability;
+
+#[test]
+fn quick_matrix_measures_every_configuration() {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-quick");
+    let _ = std::fs::remove_dir_all(&out);
+    let status = Command::new(env!("CARGO_BIN_EXE_geosph-bench"))
+        .args(["--quick", "--out"])
+        .arg(&out)
+        .status()
+        .expect("the harness runs");
+    assert!(status.success(), "geosph-bench --quick failed: {status}");
+    let csv = std::fs::read_to_string(out.join("benchmarks.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (case, wall_time, error, status) = (
+        column("case"),
+        column("wall_time_s"),
+        column("error"),
+        column("status"),
+    );
+    let mut cases = std::collections::BTreeSet::new();
+    let mut rows = 0;
+    for line in lines {
+        let fields: Vec<&str> = line.split(',').collect();
+        let number = |k: usize| fields[k].parse::<f64>().unwrap();
+        assert_eq!(fields[status], "\"ok\"", "{line}");
+        assert!(
+            number(wall_time).is_finite() && number(wall_time) > 0.0,
+            "{line}"
+        );
+        assert!(number(error).is_finite() && number(error) > 0.0, "{line}");
+        cases.insert(fields[case].to_owned());
+        rows += 1;
+    }
+    assert_eq!(cases.len(), 5, "cases: {cases:?}");
+    assert!(rows >= 20, "only {rows} configurations");
+    let report = std::fs::read_to_string(out.join("benchmarks.md")).unwrap();
+    for case in &cases {
+        assert!(report.contains(&format!("## {case}")));
+        let image = out.join("img").join(format!("bench-{case}.png"));
+        let bytes = std::fs::read(&image).unwrap();
+        assert!(bytes.starts_with(b"\x89PNG"), "{}", image.display());
+    }
+}
+
+/// The default time step of WCSPH and DFSPH carries the dam break through its wall impact, and
+/// of the soil solver the collapse.
+#[test]
+fn default_time_steps_are_stable() {
+    for solver in ["wcsph", "dfsph", "soil"] {
+        let result = stability::largest_time_step_factor(solver, "wendland-c2", true);
+        assert!(result.passed, "{}: {}", result.subject, result.measured);
+    }
+}
+
+/// A still tank with Antuono's diffusion keeps its surface and pressure for 10⁴ steps, and a
+/// cohesive block pulled apart does not clump.
+#[test]
+fn long_tank_and_tension_hold() {
+    for result in [
+        stability::long_run("wcsph", true, true),
+        stability::tension(false, true),
+    ] {
+        assert!(
+            result.passed,
+            "{} {}: {}",
+            result.test, result.subject, result.measured
+        );
+    }
+}
