@@ -20,7 +20,7 @@ pub fn resolutions(case: Case, quick: bool) -> Vec<Real> {
         (Case::TaylorGreen, true) => vec![1.0 / 16.0, 1.0 / 24.0, 1.0 / 32.0],
         (Case::Hydrostatic, false) => vec![0.05, 0.025, 0.0125],
         (Case::Hydrostatic, true) => vec![0.1, 0.0625, 0.05],
-        (Case::DamBreak, false) => vec![0.04, 0.02, 0.01],
+        (Case::DamBreak, false) => vec![0.05, 0.025, 0.0125],
         (Case::DamBreak, true) => vec![0.1, 0.0625, 0.05],
         (Case::Collapse, false) => vec![0.01, 0.005, 0.0025],
         (Case::Collapse, true) => vec![0.02, 0.0125, 0.01],
