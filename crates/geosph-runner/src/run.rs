@@ -9,13 +9,15 @@ use geosph_core::{Particles, Real};
 use geosph_fluid::{
     FluidSolver, IncompressibleMethod, SolverError, build_incompressible, build_wcsph,
 };
+use geosph_neighbours::SearchError;
 use geosph_scene::{Scene, SceneError, SolverSpec};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint::{
     self, Checkpoint, CheckpointError, CheckpointEvery, ParticleState, Progress,
 };
-use crate::health::{self, Diagnosis};
+use crate::health::report::{BlowUpFiles, BlowUpReport};
+use crate::health::{self, Diagnosis, LimitInputs, Limits};
 use crate::observer::Observer;
 use crate::output::RunOutput;
 
@@ -135,20 +137,25 @@ pub enum RunError {
         /// The failure.
         source: SolverError,
     },
-    /// The run blew up; the last good frame is on disk.
+    /// The run blew up: a check of [`health`] failed after a step, or a particle left the
+    /// domain during one. With an output folder, the state before the failed step is in
+    /// `blowup.vtu`, the failed state in `blowup-failed.vtu` and the report in `blowup.txt`.
     #[error(
-        "blow-up at t = {time:.5} s, step {step}: {quantity}{particle}: {explanation}",
+        "blow-up at t = {time:.5} s, step {step}: {quantity}{particle}: {explanation}; {files}",
         quantity = diagnosis.quantity,
         particle = diagnosis.particle.map(|(i, id)| format!(" of particle {i} (id {id})")).unwrap_or_default(),
         explanation = diagnosis.explanation
     )]
     BlowUp {
-        /// Simulated time of the failed step.
+        /// Simulated time at the end of the failed step (at its start when the solver failed
+        /// inside it).
         time: Real,
-        /// The failed step.
+        /// The failed step (1 is the first step of the run).
         step: usize,
         /// What went wrong.
         diagnosis: Diagnosis,
+        /// Where the last good state and the report are.
+        files: Box<BlowUpFiles>,
     },
     /// The output folder cannot be created or written; found before any work is done.
     #[error("output folder `{}`: {reason}", path.display())]
@@ -194,6 +201,18 @@ pub enum RunError {
         /// The current frame written, when there is an output folder.
         frame: Option<PathBuf>,
     },
+}
+
+impl RunError {
+    /// The exit status an app reports for this error: [`health::EXIT_BLOW_UP`] (3) for a
+    /// blow-up, [`crate::interrupt::EXIT_INTERRUPTED`] (130) for Ctrl-C, 1 otherwise.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Self::BlowUp { .. } => health::EXIT_BLOW_UP,
+            Self::Interrupted { .. } => crate::interrupt::EXIT_INTERRUPTED,
+            _ => 1,
+        }
+    }
 }
 
 /// Runs `scene` to its end time, calling `observer` at every sample time.
@@ -273,6 +292,14 @@ fn run_in<const D: usize>(
 ) -> Result<Summary, RunError> {
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
     let wall_particles = solver_inputs.walls.len();
+    let mut limit_inputs = LimitInputs {
+        domain: solver_inputs.domain.clone(),
+        gravity: solver_inputs.gravity,
+        rest_density: solver_inputs.rest_density,
+        spacing: solver_inputs.spacing,
+        support_radius: solver_inputs.kernel.support_factor() * solver_inputs.smoothing_length,
+        sound_speed: solver_inputs.sound_speed,
+    };
     let mut geostatic = None;
     let built = match &scene.solver {
         SolverSpec::Wcsph(config) => build_wcsph(config, solver_inputs, &mut fluid),
@@ -398,6 +425,46 @@ fn run_in<const D: usize>(
             ..Progress::default()
         };
     }
+    // The state before the step being taken, refreshed in place every step: allocated once.
+    let mut last_good = fluid.clone();
+    if solver.sound_speed() > 0.0 {
+        limit_inputs.sound_speed = solver.sound_speed();
+    }
+    let limits = Limits::new(limit_inputs, &fluid);
+    let blow_up = |diagnosis: Diagnosis,
+                   step: usize,
+                   (time, last_good_time): (Real, Real),
+                   fluid: &Particles<D>,
+                   last_good: &Particles<D>,
+                   solver: &dyn FluidSolver<D>,
+                   output: &mut Option<RunOutput>| {
+        bar.finish_and_clear();
+        let files = match output {
+            Some(output) => {
+                let _ = output.flush();
+                BlowUpReport {
+                    scene: &scene.name,
+                    solver,
+                    diagnosis: &diagnosis,
+                    step,
+                    time,
+                    failed: fluid,
+                    last_good: (last_good, last_good_time),
+                    walls: solver.walls(),
+                    limits: &limits,
+                    frames: (health::report::LAST_GOOD_FILE, health::report::FAILED_FILE),
+                }
+                .save(output)
+            }
+            None => BlowUpFiles::NoOutput,
+        };
+        RunError::BlowUp {
+            time,
+            step,
+            diagnosis,
+            files: Box::new(files),
+        }
+    };
     let (output_interval, sample_interval) = (scene.output.interval, scene.output.sample_interval);
     // Event times as multiples of the intervals, so they do not accumulate round-off.
     let mut next_output = state.outputs as Real * output_interval;
@@ -427,27 +494,51 @@ fn run_in<const D: usize>(
     while state.time < end_time - tolerance {
         let time = state.time;
         let next_event = next_output.min(next_sample).min(end_time);
-        let report = solver
-            .step(&mut fluid, time, next_event - time)
-            .map_err(|source| RunError::Solver {
-                time,
-                step: state.steps as usize,
-                source,
-            })?;
+        last_good.clone_from(&fluid);
+        let report = match solver.step(&mut fluid, time, next_event - time) {
+            Ok(report) => report,
+            Err(SolverError::Search(SearchError::OutsideDomain {
+                index,
+                position,
+                min,
+                max,
+            })) if index < fluid.len() => {
+                let distance = (0..D)
+                    .map(|k| (min[k] - position[k]).max(position[k] - max[k]))
+                    .fold(0.0, Real::max);
+                let diagnosis = health::outside_domain(
+                    index,
+                    fluid.id[index],
+                    distance,
+                    &fluid.position[index],
+                    &limits.domain,
+                );
+                let step = state.steps as usize + 1;
+                let times = (time, time);
+                let (solver, output) = (solver.as_ref(), &mut output);
+                return Err(blow_up(
+                    diagnosis, step, times, &fluid, &last_good, solver, output,
+                ));
+            }
+            Err(source) => {
+                return Err(RunError::Solver {
+                    time,
+                    step: state.steps as usize,
+                    source,
+                });
+            }
+        };
+        let last_good_time = time;
         let time = time + report.dt;
         state.time = time;
         state.steps += 1;
         let steps = state.steps as usize;
-        if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref()) {
-            bar.finish_and_clear();
-            if let Some(output) = &mut output {
-                output.flush()?;
-            }
-            return Err(RunError::BlowUp {
-                time,
-                step: steps,
-                diagnosis,
-            });
+        if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref(), &limits) {
+            let times = (time, last_good_time);
+            let (solver, output) = (solver.as_ref(), &mut output);
+            return Err(blow_up(
+                diagnosis, steps, times, &fluid, &last_good, solver, output,
+            ));
         }
         state.max_density_error = state.max_density_error.max(report.density_error_max);
         state.density_error_sum += report.density_error_mean;
