@@ -292,14 +292,7 @@ fn run_in<const D: usize>(
 ) -> Result<Summary, RunError> {
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
     let wall_particles = solver_inputs.walls.len();
-    let mut limit_inputs = LimitInputs {
-        domain: solver_inputs.domain.clone(),
-        gravity: solver_inputs.gravity,
-        rest_density: solver_inputs.rest_density,
-        spacing: solver_inputs.spacing,
-        support_radius: solver_inputs.kernel.support_factor() * solver_inputs.smoothing_length,
-        sound_speed: solver_inputs.sound_speed,
-    };
+    let limit_inputs = LimitInputs::of(&solver_inputs);
     let mut geostatic = None;
     let built = match &scene.solver {
         SolverSpec::Wcsph(config) => build_wcsph(config, solver_inputs, &mut fluid),
@@ -427,10 +420,7 @@ fn run_in<const D: usize>(
     }
     // The state before the step being taken, refreshed in place every step: allocated once.
     let mut last_good = fluid.clone();
-    if solver.sound_speed() > 0.0 {
-        limit_inputs.sound_speed = solver.sound_speed();
-    }
-    let limits = Limits::new(limit_inputs, &fluid);
+    let limits = Limits::new(limit_inputs, &fluid, solver.as_ref());
     let blow_up = |diagnosis: Diagnosis,
                    step: usize,
                    (time, last_good_time): (Real, Real),

@@ -19,6 +19,7 @@ pub mod report;
 pub mod scan;
 
 use geosph_core::{Domain, Particles, Real, Vector};
+use geosph_fluid::config::FluidSetup;
 use geosph_fluid::{FluidSolver, StepReport};
 
 pub use scan::Scan;
@@ -190,17 +191,36 @@ pub struct LimitInputs<const D: usize> {
     pub sound_speed: Real,
 }
 
+impl<const D: usize> LimitInputs<D> {
+    /// The inputs a scene's solver is built from (before it consumes them); the sound speed is
+    /// the scene's, replaced in [`Limits::new`] by the solver's when it has one.
+    pub fn of(setup: &FluidSetup<D>) -> Self {
+        Self {
+            domain: setup.domain.clone(),
+            gravity: setup.gravity,
+            rest_density: setup.rest_density,
+            spacing: setup.spacing,
+            support_radius: setup.kernel.support_factor() * setup.smoothing_length,
+            sound_speed: setup.sound_speed,
+        }
+    }
+}
+
 impl<const D: usize> Limits<D> {
-    /// The limits of a run starting from `fluid`.
-    pub fn new(inputs: LimitInputs<D>, fluid: &Particles<D>) -> Self {
+    /// The limits of a run of `solver` starting from `fluid`: c is the solver's
+    /// [`FluidSolver::sound_speed`] when positive (WCSPH, soil), else `inputs.sound_speed`.
+    pub fn new(inputs: LimitInputs<D>, fluid: &Particles<D>, solver: &dyn FluidSolver<D>) -> Self {
         let LimitInputs {
             domain,
             gravity,
             rest_density,
             spacing,
             support_radius,
-            sound_speed,
+            mut sound_speed,
         } = inputs;
+        if solver.sound_speed() > 0.0 {
+            sound_speed = solver.sound_speed();
+        }
         let gravity_on_periodic_axis = (0..D).any(|k| domain.periodic[k] && gravity[k] != 0.0);
         let mut limits = Self {
             domain,

@@ -94,21 +94,18 @@ mod tests {
     use geosph_core::{Domain, Vector};
 
     use super::*;
-    use crate::health::{LimitInputs, Limits};
+    use crate::health::Limits;
 
     fn limits(domain: Domain<2>) -> Limits<2> {
-        let fluid = Particles::at_rest(vec![Vector::<2>::new(0.5, 0.5)], 1.0, 1000.0);
-        Limits::new(
-            LimitInputs {
-                domain,
-                gravity: Vector::<2>::new(0.0, -10.0),
-                rest_density: 1000.0,
-                spacing: 0.1,
-                support_radius: 0.26,
-                sound_speed: 20.0,
-            },
-            &fluid,
-        )
+        Limits {
+            domain,
+            gravity: Vector::<2>::new(0.0, -10.0),
+            rest_density: 1000.0,
+            spacing: 0.1,
+            support_radius: 0.26,
+            energy: None,
+            max_stress: None,
+        }
     }
 
     #[test]
