@@ -11,9 +11,10 @@
 //! 5. soil only: the stress magnitude ‖σ‖ is at most [`Limits::max_stress`];
 //! 6. the kinetic energy is within the [`EnergyBudget`].
 //!
-//! Checks 2, 3, 5 and 6 share one sequential pass over the particles ([`scan`]), without
-//! allocation; it sums in index order, so a run stops at the same step with any number of
-//! threads. [`report`] writes `blowup.txt` once a check has failed.
+//! Checks 2, 3, 5 and 6 share one sequential, branch-free pass over the particles ([`scan`]),
+//! without allocation; it sums in index order, so a run stops at the same step with any
+//! number of threads. The particle to blame is looked up only after a check has failed.
+//! [`report`] writes `blowup.txt` then.
 
 pub mod report;
 pub mod scan;
@@ -254,7 +255,7 @@ impl<const D: usize> Limits<D> {
                     .sum(),
                 false => 0.0,
             };
-            let scale = stress_scale(rest_density, g, height, sound_speed).max(start.max_stress.0);
+            let scale = stress_scale(rest_density, g, height, sound_speed).max(start.max_stress);
             if scale > 0.0 && scale.is_finite() {
                 limits.max_stress = Some(STRESS_FACTOR * scale);
             }
@@ -285,7 +286,9 @@ pub fn check<const D: usize>(
     }
     let particle = |i: usize| Some((i, fluid.id[i]));
     let scan = Scan::of(fluid, limits);
-    if let Some((i, quantity, value)) = scan.non_finite {
+    if !scan.finite
+        && let Some((i, quantity, value)) = Scan::first_non_finite(fluid)
+    {
         return Some(Diagnosis {
             quantity,
             particle: particle(i),
@@ -297,7 +300,9 @@ pub fn check<const D: usize>(
             ),
         });
     }
-    if let Some((i, distance)) = scan.outside {
+    if scan.leaves_domain(limits)
+        && let Some((i, distance)) = Scan::first_outside(fluid, limits)
+    {
         return Some(outside_domain(
             i,
             fluid.id[i],
@@ -332,9 +337,9 @@ pub fn check<const D: usize>(
         });
     }
     if let Some(bound) = limits.max_stress
-        && scan.max_stress.0 > bound
+        && scan.max_stress > bound
     {
-        let (value, i) = scan.max_stress;
+        let (i, value) = Scan::largest_stress(fluid);
         return Some(Diagnosis {
             quantity: Quantity::Stress,
             particle: particle(i),
@@ -348,7 +353,7 @@ pub fn check<const D: usize>(
     if let Some(budget) = &limits.energy {
         let bound = budget.bound(scan.gravity_moment);
         if scan.kinetic_energy > bound {
-            let i = scan.most_energetic;
+            let i = Scan::most_energetic(fluid);
             return Some(Diagnosis {
                 quantity: Quantity::KineticEnergy,
                 particle: particle(i),
