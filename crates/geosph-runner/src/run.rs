@@ -6,16 +6,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::{
-    FluidSolver, IncompressibleMethod, SolverError, build_incompressible, build_wcsph,
-};
-use geosph_neighbours::SearchError;
-use geosph_scene::{Scene, SceneError, SolverSpec};
+use geosph_fluid::{FluidSolver, IncompressibleMethod, build_incompressible, build_wcsph};
+use geosph_scene::{Scene, SolverSpec};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint::{
     self, Checkpoint, CheckpointError, CheckpointEvery, ParticleState, Progress,
 };
+pub use crate::error::RunError;
 use crate::health::report::{BlowUpFiles, BlowUpReport};
 use crate::health::{self, Diagnosis, LimitInputs, Limits};
 use crate::observer::Observer;
@@ -118,100 +116,6 @@ impl std::fmt::Display for Summary {
             write!(f, "\n{geostatic}")?;
         }
         Ok(())
-    }
-}
-
-/// Why a run stopped early.
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    /// The scene is invalid.
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    /// The solver failed (e.g. a particle left the domain).
-    #[error("at t = {time:.5} s, step {step}: {source}")]
-    Solver {
-        /// Simulated time of the failure.
-        time: Real,
-        /// Step of the failure.
-        step: usize,
-        /// The failure.
-        source: SolverError,
-    },
-    /// The run blew up: a check of [`health`] failed after a step, or a particle left the
-    /// domain during one. With an output folder, the state before the failed step is in
-    /// `blowup.vtu`, the failed state in `blowup-failed.vtu` and the report in `blowup.txt`.
-    #[error(
-        "blow-up at t = {time:.5} s, step {step}: {quantity}{particle}: {explanation}; {files}",
-        quantity = diagnosis.quantity,
-        particle = diagnosis.particle.map(|(i, id)| format!(" of particle {i} (id {id})")).unwrap_or_default(),
-        explanation = diagnosis.explanation
-    )]
-    BlowUp {
-        /// Simulated time at the end of the failed step (at its start when the solver failed
-        /// inside it).
-        time: Real,
-        /// The failed step (1 is the first step of the run).
-        step: usize,
-        /// What went wrong.
-        diagnosis: Diagnosis,
-        /// Where the last good state and the report are.
-        files: Box<BlowUpFiles>,
-    },
-    /// The output folder cannot be created or written; found before any work is done.
-    #[error("output folder `{}`: {reason}", path.display())]
-    OutputFolder {
-        /// The folder asked for.
-        path: PathBuf,
-        /// Why it cannot be used.
-        reason: String,
-    },
-    /// Writing output failed.
-    #[error("output: {0}")]
-    Output(#[from] geosph_io::Error),
-    /// The thread pool could not be built.
-    #[error("threads: {0}")]
-    Threads(String),
-    /// The soil solver could not be built or its geostatic stage failed.
-    #[error(transparent)]
-    Soil(#[from] geosph_soil::SoilError),
-    /// A checkpoint cannot be written, or the restart file cannot be used.
-    #[error(transparent)]
-    Checkpoint(#[from] CheckpointError),
-    /// The restart's output folder does not continue the checkpoint's run.
-    #[error("restart: {0}")]
-    Resume(String),
-    /// The run was interrupted ([`RunOptions::interrupt`]); its state is saved.
-    #[error(
-        "interrupted at t = {time:.5} s, step {step}{saved}",
-        saved = match (checkpoint, frame) {
-            (Some(checkpoint), Some(frame)) => format!(
-                ": frame `{}`, checkpoint `{}` (continue with --restart {})",
-                frame.display(), checkpoint.display(), checkpoint.display()
-            ),
-            _ => " (no output folder: nothing saved)".to_owned(),
-        }
-    )]
-    Interrupted {
-        /// Simulated time reached.
-        time: Real,
-        /// Steps taken.
-        step: usize,
-        /// The checkpoint written, when there is an output folder.
-        checkpoint: Option<PathBuf>,
-        /// The current frame written, when there is an output folder.
-        frame: Option<PathBuf>,
-    },
-}
-
-impl RunError {
-    /// The exit status an app reports for this error: [`health::EXIT_BLOW_UP`] (3) for a
-    /// blow-up, [`crate::interrupt::EXIT_INTERRUPTED`] (130) for Ctrl-C, 1 otherwise.
-    pub fn exit_code(&self) -> u8 {
-        match self {
-            Self::BlowUp { .. } => health::EXIT_BLOW_UP,
-            Self::Interrupted { .. } => crate::interrupt::EXIT_INTERRUPTED,
-            _ => 1,
-        }
     }
 }
 
@@ -431,6 +335,8 @@ fn run_in<const D: usize>(
         bar.finish_and_clear();
         let files = match output {
             Some(output) => {
+                // A failed flush has already cut the CSV back to its last complete row; the
+                // blow-up is what to report.
                 let _ = output.flush();
                 BlowUpReport {
                     scene: &scene.name,
@@ -487,30 +393,20 @@ fn run_in<const D: usize>(
         last_good.clone_from(&fluid);
         let report = match solver.step(&mut fluid, time, next_event - time) {
             Ok(report) => report,
-            Err(SolverError::Search(SearchError::OutsideDomain {
-                index,
-                position,
-                min,
-                max,
-            })) if index < fluid.len() => {
-                let distance = (0..D)
-                    .map(|k| (min[k] - position[k]).max(position[k] - max[k]))
-                    .fold(0.0, Real::max);
-                let diagnosis = health::outside_domain(
-                    index,
-                    fluid.id[index],
-                    distance,
-                    &fluid.position[index],
-                    &limits.domain,
-                );
-                let step = state.steps as usize + 1;
-                let times = (time, time);
-                let (solver, output) = (solver.as_ref(), &mut output);
-                return Err(blow_up(
-                    diagnosis, step, times, &fluid, &last_good, solver, output,
-                ));
-            }
             Err(source) => {
+                if let Some(diagnosis) = health::escaped(&source, &fluid, &limits) {
+                    let step = state.steps as usize + 1;
+                    let (solver, output) = (solver.as_ref(), &mut output);
+                    return Err(blow_up(
+                        diagnosis,
+                        step,
+                        (time, time),
+                        &fluid,
+                        &last_good,
+                        solver,
+                        output,
+                    ));
+                }
                 return Err(RunError::Solver {
                     time,
                     step: state.steps as usize,

@@ -21,7 +21,8 @@ pub mod scan;
 
 use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_fluid::config::FluidSetup;
-use geosph_fluid::{FluidSolver, StepReport};
+use geosph_fluid::{FluidSolver, SolverError, StepReport};
+use geosph_neighbours::SearchError;
 
 pub use scan::Scan;
 
@@ -368,6 +369,38 @@ pub fn check<const D: usize>(
         }
     }
     None
+}
+
+/// The diagnosis of a step that failed because a particle of `fluid` left the domain
+/// (the neighbour search's [`SearchError::OutsideDomain`]); `None` for any other error.
+pub fn escaped<const D: usize>(
+    error: &SolverError,
+    fluid: &Particles<D>,
+    limits: &Limits<D>,
+) -> Option<Diagnosis> {
+    let SolverError::Search(SearchError::OutsideDomain {
+        index,
+        position,
+        min,
+        max,
+    }) = error
+    else {
+        return None;
+    };
+    let &index = index;
+    if index >= fluid.len() || position.len() != D {
+        return None;
+    }
+    let distance = (0..D)
+        .map(|k| (min[k] - position[k]).max(position[k] - max[k]))
+        .fold(0.0, Real::max);
+    Some(outside_domain(
+        index,
+        fluid.id[index],
+        distance,
+        &Vector::<D>::from_column_slice(position),
+        &limits.domain,
+    ))
 }
 
 /// The diagnosis of particle `index` (id `id`) at `position`, `distance` outside `domain` (or
