@@ -68,7 +68,7 @@ pub enum RunError {
     /// The restart's output folder does not continue the checkpoint's run.
     #[error("restart: {0}")]
     Resume(String),
-    /// The run was interrupted ([`RunOptions::interrupt`]); its state is saved.
+    /// The run was interrupted ([`crate::RunOptions::interrupt`]); its state is saved.
     #[error(
         "interrupted at t = {time:.5} s, step {step}{saved}",
         saved = match (checkpoint, frame) {
