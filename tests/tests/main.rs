@@ -1,4 +1,5 @@
 //! Validation tests of geosph: one test binary, one module per subject.
+mod blow_up;
 mod checkpoint;
 mod corrections;
 mod dam_break;

@@ -133,3 +133,41 @@ fn ctrl_c_saves_a_checkpoint_and_restart_finishes_the_run() {
     assert_eq!(pvd.matches("<DataSet").count(), 11, "{pvd}");
     std::fs::remove_dir_all(folder).unwrap();
 }
+
+/// A blow-up exits with status 3 and one error line naming the report and the last good
+/// frame, both written into the output folder.
+#[test]
+fn a_blow_up_exits_with_3_and_names_its_report() {
+    let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("dam-break-cli-blow-up");
+    let _ = std::fs::remove_dir_all(&folder);
+    std::fs::create_dir_all(&folder).unwrap();
+    // A sound speed of 1 m/s: far too slow for a 2 m column, whose density error then runs
+    // past 20 % within a few steps.
+    let scene = dam_break::DEFAULT_SCENE
+        .replace("hydrostatic: true", "hydrostatic: false")
+        .replace("cfl: 0.25,", "cfl: 0.25, sound_speed: Some(1.0),");
+    let scene_file = folder.join("slow.ron");
+    std::fs::write(&scene_file, scene).unwrap();
+    let out = folder.join("out");
+    let (code, stderr) = dam_break(&[
+        "--scene",
+        text(&scene_file),
+        "--dx",
+        "0.05",
+        "--quiet",
+        "--out",
+        text(&out),
+    ]);
+    assert_eq!(code, Some(3), "{stderr}");
+    let error: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("error: "))
+        .collect();
+    assert_eq!(error.len(), 1, "{stderr}");
+    for file in ["blowup.txt", "blowup.vtu"] {
+        assert!(error[0].contains(text(&out.join(file))), "{stderr}");
+        assert!(out.join(file).is_file(), "{file}");
+    }
+    assert!(error[0].contains("density error"), "{stderr}");
+    std::fs::remove_dir_all(folder).unwrap();
+}

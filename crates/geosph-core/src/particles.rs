@@ -4,7 +4,7 @@ use crate::permutation::Permutation;
 use crate::types::{Matrix, Real, Tensor3, Vector};
 
 /// The state of elastoplastic soil particles, created only for soil scenes.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 pub struct SoilFields {
     /// Cauchy stress σ (tension positive), 3×3 also in 2D plane strain.
     pub stress: Vec<Tensor3>,
@@ -15,6 +15,25 @@ pub struct SoilFields {
     /// Displacement u = ∫ v dt since the reference state (e.g. the release after a geostatic
     /// stage), 3 components also in 2D (u_z = 0).
     pub displacement: Vec<nalgebra::Vector3<Real>>,
+}
+
+impl Clone for SoilFields {
+    fn clone(&self) -> Self {
+        Self {
+            stress: self.stress.clone(),
+            strain: self.strain.clone(),
+            plastic_strain: self.plastic_strain.clone(),
+            displacement: self.displacement.clone(),
+        }
+    }
+
+    /// Field by field, reusing this set's buffers (no allocation when they are large enough).
+    fn clone_from(&mut self, source: &Self) {
+        self.stress.clone_from(&source.stress);
+        self.strain.clone_from(&source.strain);
+        self.plastic_strain.clone_from(&source.plastic_strain);
+        self.displacement.clone_from(&source.displacement);
+    }
 }
 
 impl SoilFields {
@@ -41,7 +60,10 @@ impl SoilFields {
 /// exist only when a solver or model asks for them ([`Particles::enable_pressure`],
 /// [`Particles::enable_soil`], [`Particles::enable_gradient_correction`]), so a fluid scene
 /// never allocates stress tensors. [`Particles::permute`] reorders every field that exists.
-#[derive(Clone, Debug, Default, PartialEq)]
+///
+/// `clone_from` copies field by field into the existing buffers, so a copy refreshed every
+/// step (the runner's last good state) allocates only once.
+#[derive(Debug, Default, PartialEq)]
 pub struct Particles<const D: usize> {
     /// Positions x.
     pub position: Vec<Vector<D>>,
@@ -59,6 +81,35 @@ pub struct Particles<const D: usize> {
     pub soil: Option<SoilFields>,
     /// Kernel-gradient correction matrices L_i (CSPM), when a correction is switched on.
     pub gradient_correction: Option<Vec<Matrix<D>>>,
+}
+
+impl<const D: usize> Clone for Particles<D> {
+    fn clone(&self) -> Self {
+        Self {
+            position: self.position.clone(),
+            velocity: self.velocity.clone(),
+            mass: self.mass.clone(),
+            density: self.density.clone(),
+            id: self.id.clone(),
+            pressure: self.pressure.clone(),
+            soil: self.soil.clone(),
+            gradient_correction: self.gradient_correction.clone(),
+        }
+    }
+
+    /// Field by field, reusing this set's buffers (`Vec::clone_from`, `Option::clone_from`):
+    /// no allocation when they are large enough, unlike the derived `*self = source.clone()`.
+    fn clone_from(&mut self, source: &Self) {
+        self.position.clone_from(&source.position);
+        self.velocity.clone_from(&source.velocity);
+        self.mass.clone_from(&source.mass);
+        self.density.clone_from(&source.density);
+        self.id.clone_from(&source.id);
+        self.pressure.clone_from(&source.pressure);
+        self.soil.clone_from(&source.soil);
+        self.gradient_correction
+            .clone_from(&source.gradient_correction);
+    }
 }
 
 impl<const D: usize> Particles<D> {
@@ -171,6 +222,27 @@ mod tests {
         soil.enable_soil();
         // no pressure; stress and strain (2 × 72) + plastic strain (8) + displacement (24)
         assert_eq!(soil.bytes_per_particle(), 52 + 2 * 72 + 8 + 24);
+    }
+
+    #[test]
+    fn clone_from_reuses_the_buffers() {
+        let mut source = line(8);
+        source.enable_pressure();
+        source.enable_soil();
+        let mut copy = source.clone();
+        let buffers = |p: &Particles<2>| {
+            (
+                p.position.as_ptr() as usize,
+                p.pressure.as_ref().unwrap().as_ptr() as usize,
+                p.soil.as_ref().unwrap().stress.as_ptr() as usize,
+            )
+        };
+        let before = buffers(&copy);
+        source.velocity[3] = Vector::<2>::new(1.0, -2.0);
+        source.soil.as_mut().unwrap().stress[5][(1, 1)] = -7.0;
+        copy.clone_from(&source);
+        assert_eq!(copy, source);
+        assert_eq!(buffers(&copy), before);
     }
 
     #[test]

@@ -4,14 +4,17 @@
 //! does not declare), steps the solver to the end time with events at the output and sample
 //! times, writes a VTU frame per output interval plus a `.pvd` series that ParaView opens, a
 //! `diagnostics.csv` time series, shows a progress bar with ETA, and returns a [`Summary`].
-//! A step whose state is not finite or whose density error exceeds the blow-up bound stops the
-//! run with [`RunError::BlowUp`], the last good frame already on disk.
+//! After every step [`health::check`] looks for a blow-up (a non-finite value, a particle
+//! outside the domain, a density error, soil stress or kinetic energy beyond its bound); the
+//! first one stops the run with [`RunError::BlowUp`], after writing the state before the
+//! failed step (`blowup.vtu`), the failed state and a report (`blowup.txt`) into the output
+//! folder.
 //!
 //! Modules:
 //! - [`observer`]: the [`Observer`] hook through which applications sample their own
 //!   quantities (e.g. a dam-break front) at every sample time.
 //! - [`output`]: the run's output folder: frames, `.pvd`, CSV.
-//! - [`health`]: the blow-up checks.
+//! - [`health`]: the blow-up checks, their bounds and the blow-up report.
 //! - [`interrupt`]: the Ctrl-C flag the loop checks once per step.
 //! - [`checkpoint`]: the complete state of a run in `checkpoint.bin`, for a bitwise restart.
 //! - [`run`](mod@run): the loop, [`RunOptions`], [`Summary`], [`RunError`].
@@ -41,6 +44,7 @@
 pub mod checkpoint;
 #[cfg(feature = "cli")]
 pub mod cli;
+mod error;
 pub mod health;
 pub mod interrupt;
 pub mod observer;

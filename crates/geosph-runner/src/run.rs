@@ -6,16 +6,16 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::{
-    FluidSolver, IncompressibleMethod, SolverError, build_incompressible, build_wcsph,
-};
-use geosph_scene::{Scene, SceneError, SolverSpec};
+use geosph_fluid::{FluidSolver, IncompressibleMethod, build_incompressible, build_wcsph};
+use geosph_scene::{Scene, SolverSpec};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint::{
     self, Checkpoint, CheckpointError, CheckpointEvery, ParticleState, Progress,
 };
-use crate::health::{self, Diagnosis};
+pub use crate::error::RunError;
+use crate::health::report::{BlowUpFiles, BlowUpReport};
+use crate::health::{self, Diagnosis, LimitInputs, Limits};
 use crate::observer::Observer;
 use crate::output::RunOutput;
 
@@ -119,83 +119,6 @@ impl std::fmt::Display for Summary {
     }
 }
 
-/// Why a run stopped early.
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    /// The scene is invalid.
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    /// The solver failed (e.g. a particle left the domain).
-    #[error("at t = {time:.5} s, step {step}: {source}")]
-    Solver {
-        /// Simulated time of the failure.
-        time: Real,
-        /// Step of the failure.
-        step: usize,
-        /// The failure.
-        source: SolverError,
-    },
-    /// The run blew up; the last good frame is on disk.
-    #[error(
-        "blow-up at t = {time:.5} s, step {step}: {quantity}{particle}: {explanation}",
-        quantity = diagnosis.quantity,
-        particle = diagnosis.particle.map(|(i, id)| format!(" of particle {i} (id {id})")).unwrap_or_default(),
-        explanation = diagnosis.explanation
-    )]
-    BlowUp {
-        /// Simulated time of the failed step.
-        time: Real,
-        /// The failed step.
-        step: usize,
-        /// What went wrong.
-        diagnosis: Diagnosis,
-    },
-    /// The output folder cannot be created or written; found before any work is done.
-    #[error("output folder `{}`: {reason}", path.display())]
-    OutputFolder {
-        /// The folder asked for.
-        path: PathBuf,
-        /// Why it cannot be used.
-        reason: String,
-    },
-    /// Writing output failed.
-    #[error("output: {0}")]
-    Output(#[from] geosph_io::Error),
-    /// The thread pool could not be built.
-    #[error("threads: {0}")]
-    Threads(String),
-    /// The soil solver could not be built or its geostatic stage failed.
-    #[error(transparent)]
-    Soil(#[from] geosph_soil::SoilError),
-    /// A checkpoint cannot be written, or the restart file cannot be used.
-    #[error(transparent)]
-    Checkpoint(#[from] CheckpointError),
-    /// The restart's output folder does not continue the checkpoint's run.
-    #[error("restart: {0}")]
-    Resume(String),
-    /// The run was interrupted ([`RunOptions::interrupt`]); its state is saved.
-    #[error(
-        "interrupted at t = {time:.5} s, step {step}{saved}",
-        saved = match (checkpoint, frame) {
-            (Some(checkpoint), Some(frame)) => format!(
-                ": frame `{}`, checkpoint `{}` (continue with --restart {})",
-                frame.display(), checkpoint.display(), checkpoint.display()
-            ),
-            _ => " (no output folder: nothing saved)".to_owned(),
-        }
-    )]
-    Interrupted {
-        /// Simulated time reached.
-        time: Real,
-        /// Steps taken.
-        step: usize,
-        /// The checkpoint written, when there is an output folder.
-        checkpoint: Option<PathBuf>,
-        /// The current frame written, when there is an output folder.
-        frame: Option<PathBuf>,
-    },
-}
-
 /// Runs `scene` to its end time, calling `observer` at every sample time.
 pub fn run<O>(scene: &Scene, options: &RunOptions, observer: &mut O) -> Result<Summary, RunError>
 where
@@ -273,6 +196,7 @@ fn run_in<const D: usize>(
 ) -> Result<Summary, RunError> {
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
     let wall_particles = solver_inputs.walls.len();
+    let limit_inputs = LimitInputs::of(&solver_inputs);
     let mut geostatic = None;
     let built = match &scene.solver {
         SolverSpec::Wcsph(config) => build_wcsph(config, solver_inputs, &mut fluid),
@@ -398,6 +322,45 @@ fn run_in<const D: usize>(
             ..Progress::default()
         };
     }
+    // The state before the step being taken, refreshed in place every step: allocated once.
+    let mut last_good = fluid.clone();
+    let limits = Limits::new(limit_inputs, &fluid, solver.as_ref());
+    let blow_up = |diagnosis: Diagnosis,
+                   step: usize,
+                   (time, last_good_time): (Real, Real),
+                   fluid: &Particles<D>,
+                   last_good: &Particles<D>,
+                   solver: &dyn FluidSolver<D>,
+                   output: &mut Option<RunOutput>| {
+        bar.finish_and_clear();
+        let files = match output {
+            Some(output) => {
+                // A failed flush has already cut the CSV back to its last complete row; the
+                // blow-up is what to report.
+                let _ = output.flush();
+                BlowUpReport {
+                    scene: &scene.name,
+                    solver,
+                    diagnosis: &diagnosis,
+                    step,
+                    time,
+                    failed: fluid,
+                    last_good: (last_good, last_good_time),
+                    walls: solver.walls(),
+                    limits: &limits,
+                    frames: (health::report::LAST_GOOD_FILE, health::report::FAILED_FILE),
+                }
+                .save(output)
+            }
+            None => BlowUpFiles::NoOutput,
+        };
+        RunError::BlowUp {
+            time,
+            step,
+            diagnosis,
+            files: Box::new(files),
+        }
+    };
     let (output_interval, sample_interval) = (scene.output.interval, scene.output.sample_interval);
     // Event times as multiples of the intervals, so they do not accumulate round-off.
     let mut next_output = state.outputs as Real * output_interval;
@@ -427,27 +390,41 @@ fn run_in<const D: usize>(
     while state.time < end_time - tolerance {
         let time = state.time;
         let next_event = next_output.min(next_sample).min(end_time);
-        let report = solver
-            .step(&mut fluid, time, next_event - time)
-            .map_err(|source| RunError::Solver {
-                time,
-                step: state.steps as usize,
-                source,
-            })?;
+        last_good.clone_from(&fluid);
+        let report = match solver.step(&mut fluid, time, next_event - time) {
+            Ok(report) => report,
+            Err(source) => {
+                if let Some(diagnosis) = health::escaped(&source, &fluid, &limits) {
+                    let step = state.steps as usize + 1;
+                    let (solver, output) = (solver.as_ref(), &mut output);
+                    return Err(blow_up(
+                        diagnosis,
+                        step,
+                        (time, time),
+                        &fluid,
+                        &last_good,
+                        solver,
+                        output,
+                    ));
+                }
+                return Err(RunError::Solver {
+                    time,
+                    step: state.steps as usize,
+                    source,
+                });
+            }
+        };
+        let last_good_time = time;
         let time = time + report.dt;
         state.time = time;
         state.steps += 1;
         let steps = state.steps as usize;
-        if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref()) {
-            bar.finish_and_clear();
-            if let Some(output) = &mut output {
-                output.flush()?;
-            }
-            return Err(RunError::BlowUp {
-                time,
-                step: steps,
-                diagnosis,
-            });
+        if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref(), &limits) {
+            let times = (time, last_good_time);
+            let (solver, output) = (solver.as_ref(), &mut output);
+            return Err(blow_up(
+                diagnosis, steps, times, &fluid, &last_good, solver, output,
+            ));
         }
         state.max_density_error = state.max_density_error.max(report.density_error_max);
         state.density_error_sum += report.density_error_mean;
