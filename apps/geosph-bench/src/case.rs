@@ -6,7 +6,8 @@ use std::time::Instant;
 use geosph_core::{Particles, Real};
 use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
 use geosph_runner::{NoObserver, Observer, RunOptions, Summary};
-use geosph_scene::{Scene, SolverSpec};
+use geosph_kernels::KernelKind;
+use geosph_scene::{Scene, SolverSpec, WallSpec};
 
 use crate::Config;
 
@@ -144,6 +145,16 @@ impl Case {
         .map_err(|error| error.to_string())?;
         scene.dx = config.dx;
         scene.kernel = config.kernel.to_owned();
+        // Walls as thick as the kernel's support (the quintic spline needs 4 layers at 1.3 dx).
+        let kernel: KernelKind = config
+            .kernel
+            .parse()
+            .map_err(|_| format!("unknown kernel `{}`", config.kernel))?;
+        let needed = (kernel.support_factor() * scene.smoothing_ratio - 1e-9).ceil() as usize;
+        for wall in &mut scene.walls {
+            let (WallSpec::Tank { layers, .. } | WallSpec::Polyline { layers, .. }) = wall;
+            *layers = (*layers).max(needed);
+        }
         scene.end_time = end_time;
         scene.output.interval = end_time;
         scene.output.vtk = false;
