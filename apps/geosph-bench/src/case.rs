@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use geosph_core::{Particles, Real};
 use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
-use geosph_runner::{NoObserver, Observer, RunOptions, Summary};
 use geosph_kernels::KernelKind;
+use geosph_runner::{NoObserver, Observer, RunOptions, Summary};
 use geosph_scene::{Scene, SolverSpec, WallSpec};
 
 use crate::Config;
