@@ -7,8 +7,9 @@
 //! - a 20 m/s impact of a water block on a wall, which no particle may cross;
 //! - a cohesive soil block pulled apart, whose particles must not clump (tensile instability).
 //!
-//! A run "blows up" when the runner stops it (NaN or infinite state, density error beyond
-//! 20 %, a particle outside the domain: `geosph_runner::health`).
+//! A run "blows up" when the runner stops it (`geosph_runner::health`: a non-finite state, a
+//! particle outside the domain, density error beyond 20 %, soil stress or kinetic energy
+//! beyond their bounds).
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -518,8 +519,9 @@ pub fn markdown(results: &[StabilityResult], header: &str) -> String {
     let mut text = String::from(header);
     text.push_str(
         "\nA run is stopped as blown up by the runner's health check (`geosph_runner::health`): \
-         a non-finite position, velocity or time step, a density error beyond 20 %, or a \
-         particle outside the domain.\n",
+         a non-finite state or time step, a particle outside the domain, a density error \
+         beyond 20 %, a soil stress beyond 10 × its geostatic-plus-impact scale, or a kinetic \
+         energy beyond twice what gravity and the initial state can supply.\n",
     );
     let mut test = "";
     for result in results {
