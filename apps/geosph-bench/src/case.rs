@@ -243,7 +243,12 @@ const TG_LENGTH: Real = 1.0;
 /// ν = U L / Re with Re = 100.
 const TG_VISCOSITY: Real = TG_SPEED * TG_LENGTH / 100.0;
 
-fn run<O>(scene: &Scene, options: &RunOptions, observer: &mut O) -> Result<Summary, String>
+/// Runs `scene` through the runner; the error as one line.
+pub(crate) fn run<O>(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut O,
+) -> Result<Summary, String>
 where
     O: Observer<2> + Observer<3> + Send,
 {

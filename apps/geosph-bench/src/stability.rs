@@ -19,6 +19,7 @@ use geosph_fluid::config::DiffusionConfig;
 use geosph_runner::{Observer, RunOptions};
 use geosph_scene::{InitialVelocity, Scene, SolverSpec};
 
+use crate::case::run;
 use crate::matrix::{FLUID_SOLVERS, KERNELS};
 use crate::{Case, Config};
 
@@ -217,7 +218,7 @@ pub fn long_run(solver: &'static str, antuono: bool, quick: bool) -> StabilityRe
         if let (SolverSpec::Wcsph(wcsph), true) = (&mut scene.solver, antuono) {
             wcsph.diffusion = DiffusionConfig::Antuono { delta: 0.1 };
         }
-        geosph_runner::run(&scene, &RunOptions::default(), &mut watch).map_err(|e| e.to_string())
+        run(&scene, &RunOptions::default(), &mut watch)
     });
     let (measured, passed) = match outcome {
         Err(reason) => (format!("blew up: {reason}"), false),
@@ -270,9 +271,8 @@ pub fn jittered_start(solver: &'static str, quick: bool) -> StabilityResult {
         depth: 0.5,
         samples: Vec::new(),
     };
-    let outcome = tank_scene(solver, dx, end_time, 0.3).and_then(|scene| {
-        geosph_runner::run(&scene, &RunOptions::default(), &mut watch).map_err(|e| e.to_string())
-    });
+    let outcome = tank_scene(solver, dx, end_time, 0.3)
+        .and_then(|scene| run(&scene, &RunOptions::default(), &mut watch));
     let scale = (9.81 * 0.5 as Real).sqrt();
     let (measured, passed) = match outcome {
         Err(reason) => (format!("blew up: {reason}"), false),
@@ -374,7 +374,7 @@ pub fn impact(solver: &'static str, quick: bool) -> StabilityResult {
     .map_err(|error| error.to_string())
     .and_then(|mut scene| {
         scene.solver = SolverSpec::from_name(solver).ok_or("unknown solver")?;
-        geosph_runner::run(&scene, &RunOptions::default(), &mut extent).map_err(|e| e.to_string())
+        run(&scene, &RunOptions::default(), &mut extent)
     });
     let (measured, passed) = match outcome {
         Err(reason) => (format!("blew up: {reason}"), false),
@@ -434,7 +434,7 @@ pub fn tension(artificial_stress: bool, quick: bool) -> StabilityResult {
                 rate: 2.0,
             };
         }
-        geosph_runner::run(&scene, &RunOptions::default(), &mut extent).map_err(|e| e.to_string())
+        run(&scene, &RunOptions::default(), &mut extent)
     });
     let (measured, passed) = match outcome {
         Err(reason) => (format!("blew up: {reason}"), false),
