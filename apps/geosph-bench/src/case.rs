@@ -118,12 +118,12 @@ impl Case {
                            velocity: TaylorGreen(speed: {TG_SPEED}, wavelength: {TG_LENGTH})),
                    solver: Wcsph(()))"
             )),
-            Case::Hydrostatic => Scene::from_ron(
+            Case::Hydrostatic => Scene::from_ron(&format!(
                 "Scene(name: \"hydrostatic\", dimension: 2, dx: 0.1, end_time: 1.0,
-                   fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, 0.5])]),
+                   fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, {DEPTH}])]),
                    walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0])],
-                   solver: Wcsph(()))",
-            ),
+                   solver: Wcsph(()))"
+            )),
             Case::DamBreak => {
                 Scene::from_ron(include_str!("../../../data/scenes/dam-break-2d.ron"))
             }
@@ -168,7 +168,7 @@ impl Case {
     }
 
     /// Runs `config` and measures it; `Err` with a one-line reason when the run fails.
-    pub fn run(self, config: &Config, quick: bool) -> Result<Outcome, String> {
+    pub fn run(self, config: &Config, quick: bool) -> Result<Measurement, String> {
         let scene = self.scene(config, quick)?;
         let options = RunOptions::default();
         let started = Instant::now();
@@ -213,7 +213,7 @@ impl Case {
         };
         let wall_time = started.elapsed().as_secs_f64();
         let steps = summary.steps + summary.geostatic.as_ref().map_or(0, |g| g.steps);
-        Ok(Outcome {
+        Ok(Measurement {
             particles: summary.fluid_particles,
             steps,
             wall_time,
@@ -225,7 +225,7 @@ impl Case {
 
 /// What [`Case::run`] measured; the harness adds the configuration and the rates.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Outcome {
+pub struct Measurement {
     /// Moving particles.
     pub particles: usize,
     /// Time steps, geostatic stage included.
@@ -339,9 +339,16 @@ struct LayerPressure {
     sums: Vec<(Real, Real, Real)>,
 }
 
-const DEPTH: Real = 0.5;
+/// Depth H of the water in the hydrostatic tanks (here and in the stability cases), m.
+pub(crate) const DEPTH: Real = 0.5;
 const WATER: Real = 1000.0;
 const GRAVITY: Real = 9.81;
+
+/// (p − ρ₀ g (H − y)) / (ρ₀ g H): the pressure error of a still tank of depth [`DEPTH`] at
+/// height `y`.
+pub(crate) fn hydrostatic_error(pressure: Real, y: Real) -> Real {
+    (pressure - WATER * GRAVITY * (DEPTH - y)) / (WATER * GRAVITY * DEPTH)
+}
 
 impl LayerPressure {
     fn new(dx: Real, from: Real) -> Self {
@@ -375,14 +382,13 @@ impl LayerPressure {
     }
 
     fn error(&self) -> Real {
-        let scale = WATER * GRAVITY * DEPTH;
         let kept = self.sums.len().saturating_sub(3);
         let squares: Vec<Real> = self.sums[..kept]
             .iter()
             .filter(|sum| sum.2 > 0.0)
             .map(|&(y, p, n)| {
                 let (y, p) = (y / n, p / n);
-                ((p - WATER * GRAVITY * (DEPTH - y)) / scale).powi(2)
+                hydrostatic_error(p, y).powi(2)
             })
             .collect();
         if self.samples == 0 || squares.is_empty() {

@@ -19,7 +19,7 @@ use geosph_fluid::config::DiffusionConfig;
 use geosph_runner::{Observer, RunOptions};
 use geosph_scene::{InitialVelocity, Scene, SolverSpec};
 
-use crate::case::run;
+use crate::case::{DEPTH, hydrostatic_error, run};
 use crate::matrix::{FLUID_SOLVERS, KERNELS};
 use crate::{Case, Config};
 
@@ -139,7 +139,6 @@ pub fn largest_time_step_factor(
 #[derive(Clone, Debug, Default)]
 struct TankWatch {
     dx: Real,
-    depth: Real,
     /// (t, surface height, pressure error, RMS speed) per sample.
     samples: Vec<[Real; 4]>,
 }
@@ -157,14 +156,13 @@ impl TankWatch {
         tops.dedup_by_key(|top| top.0);
         let surface =
             tops.iter().map(|top| top.1).sum::<Real>() / tops.len().max(1) as Real + 0.5 * self.dx;
-        let scale = 1000.0 * 9.81 * self.depth;
         let pressure_error = fluid.pressure.as_ref().map_or(Real::NAN, |pressure| {
             let deep: Vec<Real> = fluid
                 .position
                 .iter()
                 .zip(pressure)
-                .filter(|(x, _)| x[up] < self.depth - 3.0 * self.dx)
-                .map(|(x, p)| ((p - 1000.0 * 9.81 * (self.depth - x[up])) / scale).powi(2))
+                .filter(|(x, _)| x[up] < DEPTH - 3.0 * self.dx)
+                .map(|(x, p)| hydrostatic_error(*p, x[up]).powi(2))
                 .collect();
             (deep.iter().sum::<Real>() / deep.len().max(1) as Real).sqrt()
         });
@@ -192,7 +190,7 @@ fn tank_scene(solver: &str, dx: Real, end_time: Real, jitter: Real) -> Result<Sc
     let mut scene = Scene::from_ron(&format!(
         "Scene(name: \"tank\", dimension: 2, dx: {dx}, end_time: {end_time},
            output: (interval: {end_time}, sample_interval: {sample}, vtk: false),
-           fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, 0.5])], jitter: {jitter}),
+           fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, {DEPTH}])], jitter: {jitter}),
            walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0])],
            solver: Wcsph(()))",
         sample = end_time / 100.0
@@ -211,7 +209,6 @@ pub fn long_run(solver: &'static str, antuono: bool, quick: bool) -> StabilityRe
     let end_time = if quick { 5.2 } else { 52.0 };
     let mut watch = TankWatch {
         dx,
-        depth: 0.5,
         samples: Vec::new(),
     };
     let outcome = tank_scene(solver, dx, end_time, 0.0).and_then(|mut scene| {
@@ -268,12 +265,11 @@ pub fn jittered_start(solver: &'static str, quick: bool) -> StabilityResult {
     let (dx, end_time) = if quick { (0.05, 1.0) } else { (0.025, 2.0) };
     let mut watch = TankWatch {
         dx,
-        depth: 0.5,
         samples: Vec::new(),
     };
     let outcome = tank_scene(solver, dx, end_time, 0.3)
         .and_then(|scene| run(&scene, &RunOptions::default(), &mut watch));
-    let scale = (9.81 * 0.5 as Real).sqrt();
+    let scale = (9.81 * DEPTH).sqrt();
     let (measured, passed) = match outcome {
         Err(reason) => (format!("blew up: {reason}"), false),
         Ok(_) => {
