@@ -1,7 +1,8 @@
 //! The slope-failure application: runs a soil scene (by default the granular column collapse of
 //! Bui et al. 2008) with the geosph runner, tracks the runout front and the height of the soil at
-//! the back wall, and writes `runout.csv`, `runout.png` (front and wall height against time)
-//! and `deposit.png` (initial and final surface profiles) next to the runner's VTU frames.
+//! the back wall, and writes `runout.csv`, `runout.png` (front and wall height against time),
+//! `deposit.csv` (the final position of every soil particle) and `deposit.png` (initial and
+//! final surface profiles) next to the runner's VTU frames.
 //!
 //! The column is the scene's first soil block (a box) with its back wall at the box's lower x;
 //! the soil runs out towards +x. `main.rs` is a thin command line around [`run`].
@@ -53,8 +54,12 @@ pub struct Column {
     pub length: Real,
     /// Initial height H.
     pub height: Real,
+    /// Extent across the runout direction (y in 3D; 1 m, unit depth, in 2D).
+    pub breadth: Real,
     /// Particle spacing dx.
     pub spacing: Real,
+    /// Number of dimensions.
+    pub dimension: usize,
 }
 
 impl Column {
@@ -74,18 +79,53 @@ impl Column {
             wall: min[0],
             length: max[0] - min[0],
             height: max[up] - min[up],
+            breadth: if scene.dimension == 3 {
+                max[1] - min[1]
+            } else {
+                1.0
+            },
             spacing: scene.dx,
+            dimension: scene.dimension,
         })
     }
+
+    /// The deposit toe (the runout), measured from the back wall, of particles at `x` (along
+    /// the runout direction) sorted in descending order: the front edge (x + dx/2) of the
+    /// foremost particle that has, within a distance b = H/10 behind it, enough soil for a
+    /// layer [`TOE_THICKNESS`] × H thick, i.e. at least ⌈0.1 H · b · B / dx^D⌉ particles
+    /// (itself included; B the breadth, dx^D the volume of a particle). Zero if no particle
+    /// qualifies.
+    ///
+    /// The foremost particles of a collapse are a sparse layer about one particle thick whose
+    /// length grows as dx shrinks; this toe belongs to the deposit, a thickness in metres
+    /// rather than in particles, so it is comparable between resolutions.
+    pub fn deposit_toe(&self, x_descending: &[Real]) -> Real {
+        let window = 0.1 * self.height;
+        let particle_volume = self.spacing.powi(self.dimension as i32);
+        let needed = (TOE_THICKNESS * self.height * window * self.breadth / particle_volume - 1e-9)
+            .ceil()
+            .max(1.0) as usize;
+        x_descending
+            .windows(needed)
+            .find(|group| group[0] - group[needed - 1] <= window)
+            .map_or(0.0, |group| group[0] + 0.5 * self.spacing - self.wall)
+    }
 }
+
+/// Thickness of the deposit at its toe, as a fraction of the column height H
+/// ([`Column::deposit_toe`]).
+pub const TOE_THICKNESS: Real = 0.1;
 
 /// One sample of the flow.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
     /// t in s.
     pub time: Real,
-    /// Runout front: x of the foremost particle that has at least two others within 1.5 dx
-    /// (so single detached particles do not count), plus dx/2, measured from the back wall.
+    /// Runout: the deposit toe ([`Column::deposit_toe`]), measured from the back wall.
+    pub runout: Real,
+    /// Farthest particles: x of the foremost particle that has at least two others within
+    /// 1.5 dx (so single detached particles do not count), plus dx/2, measured from the back
+    /// wall. Grows as dx shrinks (the thin leading layer); use `runout` to compare runs.
     pub front: Real,
     /// Height of the continuous soil column within 2 dx of the back wall, plus dx/2.
     pub height_at_wall: Real,
@@ -99,6 +139,7 @@ pub struct Sample {
 pub struct RunoutTracker {
     column: Column,
     order: Vec<usize>,
+    sorted_x: Vec<Real>,
     heights: Vec<Real>,
     /// The samples so far.
     pub samples: Vec<Sample>,
@@ -114,6 +155,7 @@ impl RunoutTracker {
         Self {
             column,
             order: Vec::new(),
+            sorted_x: Vec::new(),
             heights: Vec::new(),
             samples: Vec::new(),
             initial: Vec::new(),
@@ -124,7 +166,7 @@ impl RunoutTracker {
 
 impl<const D: usize> Observer<D> for RunoutTracker {
     fn columns(&self) -> Vec<&'static str> {
-        vec!["runout_front", "height_at_wall"]
+        vec!["runout", "runout_front", "height_at_wall"]
     }
 
     fn sample(&mut self, time: Real, soil: &Particles<D>, row: &mut Vec<Real>) {
@@ -145,6 +187,9 @@ impl<const D: usize> Observer<D> for RunoutTracker {
                 == 2
         });
         let front = front_particle.map_or(0.0, |i| x[i][0] + 0.5 * dx - column.wall);
+        self.sorted_x.clear();
+        self.sorted_x.extend(self.order.iter().map(|&i| x[i][0]));
+        let runout = column.deposit_toe(&self.sorted_x);
         self.heights.clear();
         self.heights.extend(
             x.iter()
@@ -171,9 +216,10 @@ impl<const D: usize> Observer<D> for RunoutTracker {
             .zip(&soil.mass)
             .map(|(v, m)| 0.5 * m * v.norm_squared())
             .sum();
-        row.extend_from_slice(&[front, height_at_wall]);
+        row.extend_from_slice(&[runout, front, height_at_wall]);
         self.samples.push(Sample {
             time,
+            runout,
             front,
             height_at_wall,
             kinetic_energy,
@@ -190,7 +236,15 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         let samples = self.samples.iter();
         push_records(
             &mut state,
-            samples.map(|s| [s.time, s.front, s.height_at_wall, s.kinetic_energy]),
+            samples.map(|s| {
+                [
+                    s.time,
+                    s.runout,
+                    s.front,
+                    s.height_at_wall,
+                    s.kinetic_energy,
+                ]
+            }),
         );
         push_records(&mut state, self.initial.iter().map(|&(x, y)| [x, y]));
         push_records(&mut state, self.latest.iter().map(|&(x, y)| [x, y]));
@@ -200,12 +254,15 @@ impl<const D: usize> Observer<D> for RunoutTracker {
     fn restore_state(&mut self, mut state: &[Real]) -> Result<(), String> {
         self.samples = take_records(&mut state)?
             .into_iter()
-            .map(|[time, front, height_at_wall, kinetic_energy]| Sample {
-                time,
-                front,
-                height_at_wall,
-                kinetic_energy,
-            })
+            .map(
+                |[time, runout, front, height_at_wall, kinetic_energy]| Sample {
+                    time,
+                    runout,
+                    front,
+                    height_at_wall,
+                    kinetic_energy,
+                },
+            )
             .collect();
         let points = |state: &mut &[Real]| -> Result<Vec<(Real, Real)>, String> {
             Ok(take_records(state)?
@@ -243,11 +300,17 @@ impl std::fmt::Display for Report {
         )?;
         writeln!(
             f,
-            "final runout       {:.4} m from the wall (L_f/L = {:.3}), height at the wall {:.4} m (H_f/H = {:.3})",
-            self.last.front,
-            self.last.front / self.column.length,
+            "final runout       {:.4} m from the wall (L_f/L = {:.3}; deposit toe, {} H thick), height at the wall {:.4} m (H_f/H = {:.3})",
+            self.last.runout,
+            self.last.runout / self.column.length,
+            TOE_THICKNESS,
             self.last.height_at_wall,
             self.last.height_at_wall / self.column.height
+        )?;
+        writeln!(
+            f,
+            "farthest particles {:.4} m from the wall (the thin leading layer; grows as dx shrinks)",
+            self.last.front
         )?;
         write!(
             f,
@@ -259,8 +322,8 @@ impl std::fmt::Display for Report {
     }
 }
 
-/// Runs `scene`; with an output folder, also writes `runout.csv`, `runout.png` and
-/// `deposit.png`.
+/// Runs `scene`; with an output folder, also writes `runout.csv`, `runout.png`,
+/// `deposit.csv` and `deposit.png`.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     let column = Column::of(scene)?;
     let mut tracker = RunoutTracker::new(column);
@@ -302,23 +365,41 @@ fn write_outputs(dir: &Path, column: &Column, tracker: &RunoutTracker) -> Result
     let samples = &tracker.samples;
     write_csv_atomically(
         dir.join("runout.csv"),
-        &["t", "runout_front", "height_at_wall", "kinetic_energy"],
-        samples
-            .iter()
-            .map(|s| [s.time, s.front, s.height_at_wall, s.kinetic_energy]),
+        &[
+            "t",
+            "runout",
+            "runout_front",
+            "height_at_wall",
+            "kinetic_energy",
+        ],
+        samples.iter().map(|s| {
+            [
+                s.time,
+                s.runout,
+                s.front,
+                s.height_at_wall,
+                s.kinetic_energy,
+            ]
+        }),
     )?;
     let t: Vec<Real> = samples.iter().map(|s| s.time).collect();
+    let runout: Vec<Real> = samples.iter().map(|s| s.runout).collect();
     let front: Vec<Real> = samples.iter().map(|s| s.front).collect();
     let height: Vec<Real> = samples.iter().map(|s| s.height_at_wall).collect();
     line_plot_png(
         dir.join("runout.png"),
         &PlotSpec {
-            title: "Runout front and soil height at the wall",
+            title: "Runout and soil height at the wall",
             x_label: "t (s)",
             y_label: "distance from the wall / height (m)",
             lines: vec![
                 Series {
-                    label: "runout front",
+                    label: "runout (deposit toe)",
+                    x: &t,
+                    y: &runout,
+                },
+                Series {
+                    label: "farthest particles",
                     x: &t,
                     y: &front,
                 },
@@ -330,6 +411,11 @@ fn write_outputs(dir: &Path, column: &Column, tracker: &RunoutTracker) -> Result
             ],
             ..Default::default()
         },
+    )?;
+    write_csv_atomically(
+        dir.join("deposit.csv"),
+        &["x", "height"],
+        tracker.latest.iter().map(|&(x, y)| [x, y]),
     )?;
     let (x0, y0) = surface_profile(&tracker.initial, column.spacing);
     let (x1, y1) = surface_profile(&tracker.latest, column.spacing);
@@ -367,6 +453,34 @@ mod tests {
         let (x, y) = surface_profile(&points, 0.1);
         assert_eq!(x.len(), 2);
         assert!((y[0] - 0.2).abs() < 1e-12 && (y[1] - 0.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn deposit_toe_ignores_a_thin_leading_layer() {
+        let dx = 0.004;
+        let column = Column {
+            wall: 0.0,
+            length: 0.2,
+            height: 0.1,
+            breadth: 1.0,
+            spacing: dx,
+            dimension: 2,
+        };
+        let centre = |i: usize| (i as Real + 0.5) * dx;
+        // A 0.2 m × 0.1 m block (50 × 25 particles) and a layer one particle (0.04 H) thick to
+        // x = 0.4 m: 7 particles are needed within H/10, which the block's face and the first
+        // two layer particles (x = 0.202, 0.206 m) hold.
+        let mut x: Vec<Real> = (0..50)
+            .flat_map(|i| [centre(i); 25])
+            .chain((50..100).map(centre))
+            .collect();
+        x.sort_by(|a, b| b.total_cmp(a));
+        assert!((column.deposit_toe(&x) - (0.206 + 0.5 * dx)).abs() < 1e-12);
+        // Three particles (0.12 H) thick, the layer is part of the deposit.
+        x.extend((50..100).flat_map(|i| [centre(i); 2]));
+        x.sort_by(|a, b| b.total_cmp(a));
+        assert!((column.deposit_toe(&x) - 0.4).abs() < 1e-12);
+        assert_eq!(column.deposit_toe(&[0.3, 0.2]), 0.0);
     }
 
     #[test]

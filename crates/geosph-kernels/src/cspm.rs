@@ -76,8 +76,10 @@ pub fn moment_matrix<K: Kernel<D>, const D: usize>(
 }
 
 /// `M⁻¹` if `M` is invertible with `κ_F(M) = ‖M‖_F ‖M⁻¹‖_F ≤ max_condition`, else `None`
-/// (also for non-finite entries).
-pub(crate) fn well_conditioned_inverse<const D: usize>(
+/// (also for non-finite entries). With a moment matrix `B_i` and [`MAX_CONDITION_NUMBER`] this
+/// is the correction `L_i` of [`gradient_correction`], for callers that sum `B_i` in their own
+/// pair loop.
+pub fn well_conditioned_inverse<const D: usize>(
     matrix: &Matrix<D>,
     max_condition: Real,
 ) -> Option<Matrix<D>> {

@@ -134,6 +134,9 @@ pub struct SoilConfig {
     pub damping: Option<Real>,
     /// Stress regularisation (default off).
     pub regularisation: Option<RegularisationConfig>,
+    /// CSPM correction of the velocity gradient, exact for linear velocity fields also at free
+    /// surfaces (default off).
+    pub velocity_gradient_correction: bool,
     /// Walls.
     pub walls: SoilWallConfig,
     /// Geostatic stage before the run (default none: start from σ = 0).
@@ -166,6 +169,7 @@ impl Default for SoilConfig {
             artificial_stress: None,
             damping: None,
             regularisation: None,
+            velocity_gradient_correction: false,
             walls: SoilWallConfig::default(),
             geostatic: None,
             cfl: 0.2,
@@ -352,7 +356,7 @@ impl<const D: usize> SoilBuilder<'_, D> {
         let spacing = particle_spacing::<D>(self.particles, self.setup.rest_density);
         let model = config.constitutive.build().map_err(ConfigError::from)?;
         self.particles.enable_soil();
-        let system = SoilSystem::new(
+        let mut system = SoilSystem::new(
             kernel,
             self.setup,
             model,
@@ -362,6 +366,7 @@ impl<const D: usize> SoilBuilder<'_, D> {
             spacing,
             config.neighbour_skin,
         )?;
+        system.set_velocity_gradient_correction(config.velocity_gradient_correction);
         let mut solver = SoilSolver::new(system, config.cfl, config.reorder_every);
         solver.regularisation = config.regularisation;
         let geostatic = match &config.geostatic {

@@ -4,6 +4,7 @@ use geosph_boundary::{RepulsiveLiu2012, WallParticles};
 use geosph_core::{Domain, Matrix, NeighbourList, Particles, Real, Tensor3, Vector};
 use geosph_fluid::config::FluidSetup;
 use geosph_kernels::Kernel;
+use geosph_kernels::cspm::{MAX_CONDITION_NUMBER, well_conditioned_inverse};
 use geosph_neighbours::{CellGrid, SearchError};
 use rayon::prelude::*;
 
@@ -22,7 +23,8 @@ const MIN_CHUNK: usize = 256;
 /// artificial stress `S`. With r_ij = x_i − x_j, ∇_i W_ij = r_ij W'(r)/r, V_j = m_j/ρ_j:
 ///
 /// - velocity gradient (antisymmetric form): L_i = Σ_j V_j (v_j − v_i) ⊗ ∇_i W_ij, then
-///   ε̇ = ½(L + Lᵀ), ω = ½(L − Lᵀ), embedded in 3×3 (plane strain in 2D);
+///   ε̇ = ½(L + Lᵀ), ω = ½(L − Lᵀ), embedded in 3×3 (plane strain in 2D); optionally
+///   CSPM-corrected ([`SoilSystem::set_velocity_gradient_correction`]);
 /// - continuity: dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij;
 /// - stress: σ_i ← [`Constitutive::update`](σ_i, ε̇ Δt, ω Δt) (Jaumann rate, return map);
 /// - momentum (symmetric form, Bui et al. 2008 eq. 32, with eq. 33 and Gray et al. 2001):
@@ -61,6 +63,8 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: Tens
     repulsive: Option<RepulsiveLiu2012>,
     /// μ_d of the velocity damping (0: off).
     damping_rate: Real,
+    /// Whether L_i is CSPM-corrected.
+    correct_velocity_gradient: bool,
     soil_grid: CellGrid<D>,
     wall_grid: CellGrid<D>,
     soil_soil: NeighbourList,
@@ -122,6 +126,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             artificial_stress,
             repulsive,
             damping_rate: 0.0,
+            correct_velocity_gradient: false,
             soil_grid,
             wall_grid,
             soil_soil: NeighbourList::new(),
@@ -155,6 +160,22 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
     /// μ_d of the velocity damping.
     pub fn damping_rate(&self) -> Real {
         self.damping_rate
+    }
+
+    /// Switches the CSPM correction of the velocity gradient (Chen, Beraun & Carney 1999;
+    /// Bonet & Lok 1999; see [`geosph_kernels::cspm`]): L_i = L_i^SPH C_iᵀ with
+    /// C_i = B_i⁻¹, B_i = Σ_j V_j ∇_i W_ij ⊗ (x_j − x_i) over soil and dummy particles, so that
+    /// L_i is exact for every linear velocity field, also at free surfaces. Where B_i is
+    /// singular or ill-conditioned (κ_F > [`MAX_CONDITION_NUMBER`]) L_i stays uncorrected.
+    /// The continuity equation is not corrected. Off by default; off costs nothing (the
+    /// kinematics pass is compiled twice).
+    pub fn set_velocity_gradient_correction(&mut self, on: bool) {
+        self.correct_velocity_gradient = on;
+    }
+
+    /// The velocity gradients L_i of the last step.
+    pub fn velocity_gradient(&self) -> &[Matrix<D>] {
+        &self.velocity_gradient
     }
 
     /// The soil–soil neighbour list of the last step (self included).
@@ -279,7 +300,11 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
     /// Advances the soil by `dt` (see the type's documentation for the scheme).
     pub fn step(&mut self, soil: &mut Particles<D>, dt: Real) -> Result<(), SearchError> {
         self.update_lists(soil)?;
-        self.kinematics(soil);
+        if self.correct_velocity_gradient {
+            self.kinematics::<true>(soil);
+        } else {
+            self.kinematics::<false>(soil);
+        }
         self.update_stress(soil, dt);
         self.update_walls(soil);
         self.momentum(soil, dt);
@@ -310,8 +335,8 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         Ok(())
     }
 
-    /// L_i and dρ_i/dt of every soil particle from v^n.
-    fn kinematics(&mut self, soil: &Particles<D>) {
+    /// L_i and dρ_i/dt of every soil particle from v^n; with `CORRECT`, L_i is CSPM-corrected.
+    fn kinematics<const CORRECT: bool>(&mut self, soil: &Particles<D>) {
         let Self {
             kernel,
             domain,
@@ -327,6 +352,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         let (kernel, domain, walls, rest_density) = (*kernel, &*domain, &*walls, *rest_density);
         let free_slip = wall_config.slip != WallSlip::NoSlip;
         let beta_max = wall_config.beta_max;
+        let support2 = kernel.support_radius().powi(2);
         let Particles {
             position,
             velocity,
@@ -342,6 +368,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             .for_each(|(i, (gradient, rate))| {
                 let (x_i, v_i) = (position[i], velocity[i]);
                 let mut l = Matrix::<D>::zeros();
+                let mut moment = Matrix::<D>::zeros();
                 let mut drho = 0.0;
                 for &j in soil_soil.neighbours(i) {
                     let j = j as usize;
@@ -349,16 +376,28 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                         continue;
                     }
                     let r_ij = domain.displacement(&x_i, &position[j]);
-                    let grad = r_ij * kernel.gradient_factor(r_ij.norm());
+                    let r2 = r_ij.norm_squared();
+                    if r2 >= support2 {
+                        continue; // a pair in the Verlet skin
+                    }
+                    let grad = r_ij * kernel.gradient_factor(r2.sqrt());
                     let dv = velocity[j] - v_i;
-                    l += (dv * (mass[j] / density[j])) * grad.transpose();
+                    let volume = mass[j] / density[j];
+                    l += (dv * volume) * grad.transpose();
+                    if CORRECT {
+                        moment -= (grad * volume) * r_ij.transpose();
+                    }
                     drho -= mass[j] * dv.dot(&grad);
                 }
                 for &w in soil_wall.neighbours(i) {
                     let w = w as usize;
                     let x_w = walls.position[w];
                     let r_iw = domain.displacement(&x_i, &x_w);
-                    let grad = r_iw * kernel.gradient_factor(r_iw.norm());
+                    let r2 = r_iw.norm_squared();
+                    if r2 >= support2 {
+                        continue;
+                    }
+                    let grad = r_iw * kernel.gradient_factor(r2.sqrt());
                     let v_w = dummy_velocity(
                         &x_i,
                         &v_i,
@@ -372,7 +411,16 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                     let dv = v_w - v_i;
                     let volume = walls.volume[w];
                     l += (dv * volume) * grad.transpose();
+                    if CORRECT {
+                        moment -= (grad * volume) * r_iw.transpose();
+                    }
                     drho -= rest_density * volume * dv.dot(&grad);
+                }
+                if CORRECT
+                    && let Some(correction) =
+                        well_conditioned_inverse(&moment, MAX_CONDITION_NUMBER)
+                {
+                    l *= correction.transpose();
                 }
                 *gradient = l;
                 *rate = drho;
@@ -491,6 +539,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             WallSlip::Friction { angle_deg } => Some(angle_deg.to_radians().tan()),
             _ => None,
         };
+        let support2 = kernel.support_radius().powi(2);
         let Particles {
             position,
             velocity,
@@ -513,6 +562,9 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                     }
                     let r_ij = domain.displacement(&x_i, &position[j]);
                     let r2 = r_ij.norm_squared();
+                    if r2 >= support2 {
+                        continue;
+                    }
                     let r = r2.sqrt();
                     let grad = r_ij * kernel.gradient_factor(r);
                     let mut term = term_i + stress_term[j];
@@ -538,7 +590,11 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                 for &w in soil_wall.neighbours(i) {
                     let w = w as usize;
                     let r_iw = domain.displacement(&x_i, &walls.position[w]);
-                    let r = r_iw.norm();
+                    let r2 = r_iw.norm_squared();
+                    if r2 >= support2 {
+                        continue;
+                    }
+                    let r = r2.sqrt();
                     let grad = r_iw * kernel.gradient_factor(r);
                     let mut term = term_i + wall_term[w];
                     if S::ON {
