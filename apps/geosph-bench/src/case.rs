@@ -93,7 +93,7 @@ impl Case {
                  the measured points within the run"
             }
             Case::Collapse => {
-                "|L_f − L_f,finest|/L: runout L_f at the end time against that of the finest run \
+                "|L_f − L_f,finest|/L: runout L_f (the deposit toe, 0.1 H thick) at the end time against that of the finest run \
                  of the same solver, kernel and time-step factor; for the finest run, the \
                  Richardson estimate |L_f,finest − L_f,next| / (2^p − 1) with the observed order p \
                  (p = 1 when it cannot be observed)"
@@ -196,7 +196,7 @@ impl Case {
             Case::Collapse => {
                 let report = slope_failure::run(&scene, &options).map_err(|e| e.to_string())?;
                 // The error needs the finest run: see `matrix::richardson`.
-                (report.summary, report.last.front, Real::NAN)
+                (report.summary, report.last.runout, Real::NAN)
             }
             Case::K0Column => {
                 let summary = run(&scene, &options, &mut NoObserver)?;
