@@ -182,7 +182,10 @@ impl Escapes {
 
 /// Whether `x` lies outside `domain` on a non-periodic axis (or has a NaN coordinate there).
 fn outside<const D: usize>(x: &Vector<D>, domain: &Domain<D>) -> bool {
-    (0..D).any(|k| !domain.periodic[k] && !(x[k] >= domain.min[k] && x[k] < domain.max[k]))
+    (0..D).any(|k| {
+        let inside = x[k] >= domain.min[k] && x[k] < domain.max[k];
+        !(domain.periodic[k] || inside)
+    })
 }
 
 /// Sets `fluid` to `last_good`, the same particles before the failed step, in the order of
