@@ -1,7 +1,7 @@
 //! Checkpoint and restart: a run stopped at a checkpoint and restarted writes bitwise the same
 //! frames, `.pvd` series, `diagnostics.csv` and observer samples as the run that was never
-//! stopped, for WCSPH, DFSPH and the soil solver on coarse cases; bad restart files are
-//! refused with one clear line.
+//! stopped, for WCSPH, DFSPH and the soil solver on coarse cases, also after a particle left
+//! the domain; bad restart files are refused with one clear line.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use dam_break::FrontTracker;
 use geosph_core::{Particles, Real};
-use geosph_runner::{CheckpointEvery, Observer, RunError, RunOptions, Summary, run};
+use geosph_runner::{CheckpointEvery, NoObserver, Observer, RunError, RunOptions, Summary, run};
 use geosph_scene::{Scene, SolverSpec};
 use slope_failure::RunoutTracker;
 
@@ -223,6 +223,24 @@ fn a_restarted_soil_collapse_matches_the_uninterrupted_run_bitwise() {
     let scene = coarse_collapse();
     let column = slope_failure::Column::of(&scene).unwrap();
     assert_restart_is_bitwise(&scene, "soil", move || RunoutTracker::new(column), 0.045);
+}
+
+/// A particle leaves the domain at t ≈ 0.1 s; the run stopped at 0.15 s restarts with 100 of
+/// the scene's 101 particles and the escaped count, and continues bitwise (WCSPH and DFSPH,
+/// whose escape is found inside the step).
+#[test]
+fn a_restart_after_a_particle_left_the_domain_matches_the_uninterrupted_run_bitwise() {
+    for solver in ["wcsph", "dfsph"] {
+        let scene = crate::escape::lone_particle_scene(solver);
+        let label = format!("restart-escape-{solver}");
+        let whole = assert_restart_is_bitwise(&scene, &label, || NoObserver, 0.15);
+        let csv = std::fs::read_to_string(whole.join("diagnostics.csv")).unwrap();
+        let last = csv.lines().last().unwrap();
+        assert!(
+            last.ends_with(",1.0"),
+            "{solver}: the last row counts the escape: {last}"
+        );
+    }
 }
 
 fn copy_folder(from: &Path, to: &Path) {

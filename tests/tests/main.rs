@@ -4,6 +4,7 @@ mod checkpoint;
 mod corrections;
 mod dam_break;
 mod determinism;
+mod escape;
 mod hostile_scenes;
 mod incompressible;
 mod kernels;

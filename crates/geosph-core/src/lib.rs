@@ -40,6 +40,6 @@ pub mod types;
 
 pub use domain::Domain;
 pub use neighbour_list::NeighbourList;
-pub use particles::{Particles, SoilFields};
+pub use particles::{Particles, SoilFields, retain};
 pub use permutation::Permutation;
 pub use types::{Matrix, Real, Tensor3, Vector};

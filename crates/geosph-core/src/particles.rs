@@ -52,6 +52,30 @@ impl SoilFields {
         permutation.apply(&mut self.plastic_strain);
         permutation.apply(&mut self.displacement);
     }
+
+    fn retain(&mut self, keep: &[bool]) {
+        retain(&mut self.stress, keep);
+        retain(&mut self.strain, keep);
+        retain(&mut self.plastic_strain, keep);
+        retain(&mut self.displacement, keep);
+    }
+}
+
+/// Keeps the entries `k` of `values` with `keep[k]` and drops the others, keeping the order
+/// of those kept; in place, without allocation.
+///
+/// # Panics
+/// If `keep` and `values` differ in length.
+pub fn retain<T>(values: &mut Vec<T>, keep: &[bool]) {
+    assert_eq!(
+        values.len(),
+        keep.len(),
+        "a mask of {} particles applied to a field of {}",
+        keep.len(),
+        values.len()
+    );
+    let mut flags = keep.iter();
+    values.retain(|_| flags.next().copied().unwrap_or(false));
 }
 
 /// A set of particles in `D` dimensions, one `Vec` per field (structure of arrays).
@@ -59,7 +83,8 @@ impl SoilFields {
 /// Position, velocity, mass, density and a persistent `id` always exist. The optional groups
 /// exist only when a solver or model asks for them ([`Particles::enable_pressure`],
 /// [`Particles::enable_soil`], [`Particles::enable_gradient_correction`]), so a fluid scene
-/// never allocates stress tensors. [`Particles::permute`] reorders every field that exists.
+/// never allocates stress tensors. [`Particles::permute`] reorders every field that exists,
+/// [`Particles::retain`] removes particles from every field that exists.
 ///
 /// `clone_from` copies field by field into the existing buffers, so a copy refreshed every
 /// step (the runner's last good state) allocates only once.
@@ -180,6 +205,29 @@ impl<const D: usize> Particles<D> {
         }
     }
 
+    /// Keeps the particles `k` with `keep[k]` in every existing field and drops the others
+    /// (e.g. particles that left the domain), keeping the order of those kept; in place,
+    /// without allocation.
+    ///
+    /// # Panics
+    /// If `keep` and the particles differ in length.
+    pub fn retain(&mut self, keep: &[bool]) {
+        retain(&mut self.position, keep);
+        retain(&mut self.velocity, keep);
+        retain(&mut self.mass, keep);
+        retain(&mut self.density, keep);
+        retain(&mut self.id, keep);
+        if let Some(pressure) = &mut self.pressure {
+            retain(pressure, keep);
+        }
+        if let Some(soil) = &mut self.soil {
+            soil.retain(keep);
+        }
+        if let Some(correction) = &mut self.gradient_correction {
+            retain(correction, keep);
+        }
+    }
+
     /// Bytes held per particle by the fields that exist (capacity, not length).
     pub fn bytes_per_particle(&self) -> usize {
         fn bytes<T>(v: &Vec<T>) -> usize {
@@ -243,6 +291,43 @@ mod tests {
         copy.clone_from(&source);
         assert_eq!(copy, source);
         assert_eq!(buffers(&copy), before);
+    }
+
+    #[test]
+    fn retain_drops_the_same_particles_from_every_field() {
+        let mut particles = line(5);
+        particles.enable_pressure();
+        particles.enable_soil();
+        particles.enable_gradient_correction();
+        for i in 0..5 {
+            particles.pressure.as_mut().unwrap()[i] = 10.0 * i as Real;
+            particles.soil.as_mut().unwrap().plastic_strain[i] = i as Real;
+            particles.gradient_correction.as_mut().unwrap()[i][(0, 0)] = i as Real;
+        }
+        particles.retain(&[true, false, true, true, false]);
+        assert_eq!(particles.id, [0, 2, 3]);
+        for (k, &id) in particles.id.iter().enumerate() {
+            let i = id as Real;
+            assert_eq!(particles.position[k][0], i);
+            assert_eq!(particles.pressure.as_ref().unwrap()[k], 10.0 * i);
+            assert_eq!(particles.soil.as_ref().unwrap().plastic_strain[k], i);
+            assert_eq!(
+                particles.gradient_correction.as_ref().unwrap()[k][(0, 0)],
+                i
+            );
+        }
+        assert_eq!(particles.velocity.len(), 3);
+        assert_eq!(particles.mass.len(), 3);
+        assert_eq!(particles.density.len(), 3);
+        let soil = particles.soil.as_ref().unwrap();
+        assert_eq!(
+            (
+                soil.stress.len(),
+                soil.strain.len(),
+                soil.displacement.len()
+            ),
+            (3, 3, 3)
+        );
     }
 
     #[test]

@@ -75,6 +75,16 @@ pub trait FluidSolver<const D: usize>: Send {
     /// What a user can change when the density error runs away.
     fn blow_up_advice(&self) -> &'static str;
 
+    /// Removes the particles `k` without `keep[k]` (particles that left the domain) from
+    /// `fluid` and the same entries from the solver's own per-particle state, keeping the order
+    /// of the others; neighbour lists and cached rates are then those of the particles that
+    /// remain. Called between steps, only when some particle is removed.
+    fn remove_particles(
+        &mut self,
+        fluid: &mut Particles<D>,
+        keep: &[bool],
+    ) -> Result<(), SolverError>;
+
     /// Everything the next step depends on besides the particles (step count, cached rates,
     /// neighbour-list positions, warm-start data), for a checkpoint.
     fn save_state(&self) -> SolverState;
@@ -222,6 +232,17 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Flui
 
     fn blow_up_advice(&self) -> &'static str {
         "the sound speed is too low or the time step too large (lower `cfl`)"
+    }
+
+    fn remove_particles(
+        &mut self,
+        fluid: &mut Particles<D>,
+        keep: &[bool],
+    ) -> Result<(), SolverError> {
+        fluid.retain(keep);
+        self.integrator.retain(keep);
+        self.system.invalidate_lists();
+        Ok(())
     }
 
     fn save_state(&self) -> SolverState {

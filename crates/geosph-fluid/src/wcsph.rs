@@ -139,6 +139,12 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
         &mut self.fluid_grid
     }
 
+    /// Forgets the neighbour lists (after particles were removed); the next update rebuilds
+    /// them.
+    pub fn invalidate_lists(&mut self) {
+        self.lists_valid = false;
+    }
+
     /// How often the neighbour lists were built.
     pub fn list_builds(&self) -> usize {
         self.list_builds

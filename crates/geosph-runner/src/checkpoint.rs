@@ -23,8 +23,9 @@ use serde::{Deserialize, Serialize};
 /// Name of the checkpoint file in the output folder.
 pub const FILE_NAME: &str = "checkpoint.bin";
 
-/// Version of the file layout; a checkpoint of another version is refused.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the file layout; a checkpoint of another version is refused. Version 2 added
+/// the particles that left the domain to [`Progress`].
+pub const FORMAT_VERSION: u32 = 2;
 
 const MAGIC: &[u8; 8] = b"GEOSPHCP";
 const HEADER_LEN: usize = 8 + 4 + 8 + 4;
@@ -86,6 +87,12 @@ pub struct Progress {
     pub iterations: u64,
     /// Sum of the steps' divergence-solve iterations.
     pub divergence_iterations: u64,
+    /// Particles that left the domain and were removed from the run.
+    pub escaped: u64,
+    /// Their total mass, kg (kg/m in 2D).
+    pub escaped_mass: Real,
+    /// Simulated time at which the first of them was removed, s.
+    pub first_escape: Option<Real>,
 }
 
 /// The particles, every field that exists, as named arrays.
@@ -124,15 +131,17 @@ impl ParticleState {
     }
 
     /// The particles saved, with the optional fields `like` has (the freshly built scene's
-    /// particles, so a checkpoint of another setup is refused rather than half-used).
+    /// particles, so a checkpoint of another setup is refused rather than half-used), of which
+    /// `escaped` had left the domain before the checkpoint.
     pub fn restore<const D: usize>(
         mut self,
         like: &Particles<D>,
+        escaped: u64,
     ) -> Result<Particles<D>, StateError> {
         let n = self.id.len();
-        if n != like.len() {
+        if n as u64 + escaped != like.len() as u64 {
             return Err(StateError(format!(
-                "{n} particles saved, the scene makes {}",
+                "{n} particles saved and {escaped} escaped, the scene makes {}",
                 like.len()
             )));
         }

@@ -4,17 +4,19 @@
 //! does not declare), steps the solver to the end time with events at the output and sample
 //! times, writes a VTU frame per output interval plus a `.pvd` series that ParaView opens, a
 //! `diagnostics.csv` time series, shows a progress bar with ETA, and returns a [`Summary`].
-//! After every step [`health::check`] looks for a blow-up (a non-finite value, a particle
-//! outside the domain, a density error, soil stress or kinetic energy beyond its bound); the
-//! first one stops the run with [`RunError::BlowUp`], after writing the state before the
-//! failed step (`blowup.vtu`), the failed state and a report (`blowup.txt`) into the output
-//! folder.
+//! Particles that leave the domain are removed from the run and counted ([`escape`]). After
+//! every step [`health::check`] looks for a blow-up (a non-finite value, a particle outside the
+//! domain once more than the allowed fraction has left, a density error, soil stress or
+//! kinetic energy beyond its bound); the first one stops the run with [`RunError::BlowUp`],
+//! after writing the state before the failed step (`blowup.vtu`), the failed state and a report
+//! (`blowup.txt`) into the output folder.
 //!
 //! Modules:
 //! - [`observer`]: the [`Observer`] hook through which applications sample their own
 //!   quantities (e.g. a dam-break front) at every sample time.
 //! - [`output`]: the run's output folder: frames, `.pvd`, CSV.
 //! - [`health`]: the blow-up checks, their bounds and the blow-up report.
+//! - [`escape`]: particles that leave the domain, removed from the run, counted and reported.
 //! - [`interrupt`]: the Ctrl-C flag the loop checks once per step.
 //! - [`checkpoint`]: the complete state of a run in `checkpoint.bin`, for a bitwise restart.
 //! - [`run`](mod@run): the loop, [`RunOptions`], [`Summary`], [`RunError`].
@@ -45,6 +47,7 @@ pub mod checkpoint;
 #[cfg(feature = "cli")]
 pub mod cli;
 mod error;
+pub mod escape;
 pub mod health;
 pub mod interrupt;
 pub mod observer;

@@ -16,8 +16,9 @@ pub struct RunOutput {
     frames: usize,
 }
 
-/// Columns of `diagnostics.csv` that every run writes, before the observer's.
-pub const DIAGNOSTIC_COLUMNS: [&str; 9] = [
+/// Columns of `diagnostics.csv` that every run writes, before the observer's; `escaped` is
+/// the number of particles that have left the domain so far.
+pub const DIAGNOSTIC_COLUMNS: [&str; 10] = [
     "time",
     "step",
     "dt",
@@ -27,6 +28,7 @@ pub const DIAGNOSTIC_COLUMNS: [&str; 9] = [
     "max_speed",
     "iterations",
     "divergence_iterations",
+    "escaped",
 ];
 
 /// Checks, without creating anything, that the folder `dir` exists and can be written, or that

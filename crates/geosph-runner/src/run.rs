@@ -14,6 +14,7 @@ use crate::checkpoint::{
     self, Checkpoint, CheckpointError, CheckpointEvery, ParticleState, Progress,
 };
 pub use crate::error::RunError;
+use crate::escape::{Escapes, Removal};
 use crate::health::report::{BlowUpFiles, BlowUpReport};
 use crate::health::{self, Diagnosis, LimitInputs, Limits};
 use crate::observer::Observer;
@@ -72,6 +73,13 @@ pub struct Summary {
     pub bytes_per_particle: usize,
     /// VTU frames written.
     pub frames: usize,
+    /// Particles that left the domain and were removed from the run (included in neither
+    /// `fluid_particles` nor the frames).
+    pub escaped: usize,
+    /// Their share of the initial fluid mass.
+    pub escaped_mass_fraction: Real,
+    /// Simulated time at which the first of them was removed, s.
+    pub first_escape: Option<Real>,
     /// The geostatic stage of a soil scene, run before t = 0.
     pub geostatic: Option<geosph_soil::GeostaticReport>,
 }
@@ -112,6 +120,14 @@ impl std::fmt::Display for Summary {
             "iterations         {:.1} per step (divergence solve {:.1})",
             self.mean_iterations, self.mean_divergence_iterations
         )?;
+        if let Some(first) = self.first_escape {
+            writeln!(
+                f,
+                "escaped            {} particles ({:.3} % of the mass), first at t = {first:.3} s",
+                self.escaped,
+                100.0 * self.escaped_mass_fraction
+            )?;
+        }
         if let Some(geostatic) = &self.geostatic {
             write!(f, "\n{geostatic}")?;
         }
@@ -236,7 +252,7 @@ fn run_in<const D: usize>(
             let saved = Checkpoint::read::<D>(path, scene)?;
             fluid = saved
                 .particles
-                .restore(&fluid)
+                .restore(&fluid, saved.progress.escaped)
                 .map_err(|error| restart_mismatch(path, error.0))?;
             solver
                 .restore_state(saved.solver, &mut fluid)
@@ -275,6 +291,7 @@ fn run_in<const D: usize>(
     let mut sample = |time: Real,
                       step: usize,
                       report: &geosph_fluid::StepReport,
+                      escaped: u64,
                       fluid: &Particles<D>,
                       output: &mut Option<RunOutput>,
                       observer: &mut dyn Observer<D>|
@@ -290,6 +307,7 @@ fn run_in<const D: usize>(
             geosph_fluid::solver::max_speed(&fluid.velocity),
             report.iterations as Real,
             report.divergence_iterations as Real,
+            escaped as Real,
         ]);
         observer.sample(time, fluid, &mut row);
         if let Some(output) = output {
@@ -310,7 +328,7 @@ fn run_in<const D: usize>(
             report.density_error_mean += error / fluid.len().max(1) as Real;
             report.density_error_max = report.density_error_max.max(error);
         }
-        sample(0.0, 0, &report, &fluid, &mut output, observer)?;
+        sample(0.0, 0, &report, 0, &fluid, &mut output, observer)?;
         if let Some(output) = &mut output {
             output.write_frame(0.0, &fluid, solver.walls())?;
         }
@@ -324,13 +342,14 @@ fn run_in<const D: usize>(
     }
     // The state before the step being taken, refreshed in place every step: allocated once.
     let mut last_good = fluid.clone();
-    let limits = Limits::new(limit_inputs, &fluid, solver.as_ref());
+    let mut limits = Limits::new(limit_inputs, &fluid, solver.as_ref());
+    let mut escapes = Escapes::new(scene.health.max_escaped_fraction);
     let blow_up = |diagnosis: Diagnosis,
                    step: usize,
                    (time, last_good_time): (Real, Real),
-                   fluid: &Particles<D>,
-                   last_good: &Particles<D>,
+                   (fluid, last_good): (&Particles<D>, &Particles<D>),
                    solver: &dyn FluidSolver<D>,
+                   limits: &Limits<D>,
                    output: &mut Option<RunOutput>| {
         bar.finish_and_clear();
         let files = match output {
@@ -347,7 +366,7 @@ fn run_in<const D: usize>(
                     failed: fluid,
                     last_good: (last_good, last_good_time),
                     walls: solver.walls(),
-                    limits: &limits,
+                    limits,
                     frames: (health::report::LAST_GOOD_FILE, health::report::FAILED_FILE),
                 }
                 .save(output)
@@ -391,39 +410,66 @@ fn run_in<const D: usize>(
         let time = state.time;
         let next_event = next_output.min(next_sample).min(end_time);
         last_good.clone_from(&fluid);
-        let report = match solver.step(&mut fluid, time, next_event - time) {
-            Ok(report) => report,
-            Err(source) => {
-                if let Some(diagnosis) = health::escaped(&source, &fluid, &limits) {
-                    let step = state.steps as usize + 1;
-                    let (solver, output) = (solver.as_ref(), &mut output);
-                    return Err(blow_up(
-                        diagnosis,
-                        step,
-                        (time, time),
-                        &fluid,
-                        &last_good,
-                        solver,
-                        output,
-                    ));
-                }
-                return Err(RunError::Solver {
+        // A step that moved particles out of the domain is taken again without them.
+        let report = loop {
+            let source = match solver.step(&mut fluid, time, next_event - time) {
+                Ok(report) => break report,
+                Err(source) => source,
+            };
+            let (solver, step) = (solver.as_mut(), state.steps as usize + 1);
+            let removal = escapes
+                .during_step(
+                    &source,
+                    &mut fluid,
+                    &last_good,
+                    solver,
+                    &mut limits,
+                    &mut state,
                     time,
-                    step: state.steps as usize,
-                    source,
-                });
-            }
+                )
+                .map_err(|source| RunError::Solver { time, step, source })?;
+            let diagnosis = match removal {
+                Removal::Removed => {
+                    last_good.clone_from(&fluid);
+                    continue;
+                }
+                Removal::TooMany(diagnosis) => diagnosis,
+                Removal::Nothing => match health::escaped(&source, &fluid, &limits) {
+                    Some(diagnosis) => diagnosis,
+                    None => {
+                        let step = state.steps as usize;
+                        return Err(RunError::Solver { time, step, source });
+                    }
+                },
+            };
+            let states = (&fluid, &last_good);
+            let output = &mut output;
+            let (times, limits) = ((time, time), &limits);
+            return Err(blow_up(
+                diagnosis, step, times, states, solver, limits, output,
+            ));
         };
         let last_good_time = time;
         let time = time + report.dt;
         state.time = time;
         state.steps += 1;
         let steps = state.steps as usize;
-        if let Some(diagnosis) = health::check(&report, &fluid, solver.as_ref(), &limits) {
-            let times = (time, last_good_time);
+        let escape = escapes
+            .after_step(&mut fluid, solver.as_mut(), &mut limits, &mut state, time)
+            .map_err(|source| RunError::Solver {
+                time,
+                step: steps,
+                source,
+            })?;
+        let diagnosis = match escape {
+            Removal::TooMany(diagnosis) => Some(diagnosis),
+            _ => health::check(&report, &fluid, solver.as_ref(), &limits),
+        };
+        if let Some(diagnosis) = diagnosis {
+            let (times, states) = ((time, last_good_time), (&fluid, &last_good));
             let (solver, output) = (solver.as_ref(), &mut output);
             return Err(blow_up(
-                diagnosis, steps, times, &fluid, &last_good, solver, output,
+                diagnosis, steps, times, states, solver, &limits, output,
             ));
         }
         state.max_density_error = state.max_density_error.max(report.density_error_max);
@@ -431,7 +477,8 @@ fn run_in<const D: usize>(
         state.iterations += report.iterations as u64;
         state.divergence_iterations += report.divergence_iterations as u64;
         if time >= next_sample - tolerance {
-            sample(time, steps, &report, &fluid, &mut output, observer)?;
+            let escaped = state.escaped;
+            sample(time, steps, &report, escaped, &fluid, &mut output, observer)?;
             state.samples += 1;
             state.rows += 1;
             next_sample = state.samples as Real * sample_interval;
@@ -503,6 +550,10 @@ fn run_in<const D: usize>(
         mean_divergence_iterations: state.divergence_iterations as Real / steps.max(1) as Real,
         bytes_per_particle: fluid.bytes_per_particle(),
         frames,
+        escaped: state.escaped as usize,
+        escaped_mass_fraction: state.escaped_mass
+            / (fluid.mass.iter().sum::<Real>() + state.escaped_mass),
+        first_escape: state.first_escape,
         geostatic,
     })
 }

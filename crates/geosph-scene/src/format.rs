@@ -44,6 +44,27 @@ pub struct Scene {
     pub walls: Vec<WallSpec>,
     /// The solver and its parameters.
     pub solver: SolverSpec,
+    /// Limits of the blow-up checks.
+    #[serde(default)]
+    pub health: HealthSpec,
+}
+
+/// Limits of the runner's blow-up checks that a scene may change.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HealthSpec {
+    /// Largest fraction of the particles, in [0, 1], that may leave the domain (they are
+    /// removed from the run, counted and reported) before the run is stopped as a blow-up
+    /// (default 0.01; 0 stops the run at the first particle that leaves).
+    pub max_escaped_fraction: Real,
+}
+
+impl Default for HealthSpec {
+    fn default() -> Self {
+        Self {
+            max_escaped_fraction: 0.01,
+        }
+    }
 }
 
 fn default_smoothing_ratio() -> Real {

@@ -42,6 +42,8 @@ mod parse;
 pub mod setup;
 pub mod validate;
 
-pub use format::{FluidSpec, InitialVelocity, OutputSpec, Region, Scene, SolverSpec, WallSpec};
+pub use format::{
+    FluidSpec, HealthSpec, InitialVelocity, OutputSpec, Region, Scene, SolverSpec, WallSpec,
+};
 pub use setup::{Setup, build};
 pub use validate::SceneError;

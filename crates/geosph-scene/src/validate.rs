@@ -198,6 +198,12 @@ impl Scene {
                 ));
             }
         }
+        in_range(
+            "health.max_escaped_fraction",
+            self.health.max_escaped_fraction,
+            0.0,
+            1.0,
+        )?;
         match &self.fluid {
             Some(fluid) => self.validate_fluid(fluid)?,
             None => return Err(fail("fluid", "the scene has no fluid: nothing to simulate")),

@@ -117,7 +117,23 @@ impl<const D: usize> Integrator<D> {
 
     /// Restores the cached rates and whether they are current, as saved from
     /// [`Integrator::rates`] and [`Integrator::rates_current`] (a restart from a checkpoint).
+    /// The scratch arrays take the rates' particle count, which is smaller than the one the
+    /// integrator was made for when particles had left the domain before the checkpoint.
     pub fn restore_rates(&mut self, rates: Rates<D>, current: bool) {
+        let n = rates.len();
+        let start = &mut self.start;
+        for field in [
+            &mut self.position_rate,
+            &mut start.position,
+            &mut start.velocity,
+        ] {
+            field.truncate(n);
+        }
+        start.density.truncate(n);
+        if let Some(stress) = &mut start.stress {
+            stress.truncate(n);
+        }
+        self.accumulated.truncate(n);
         self.rates = rates;
         self.rates_current = current;
     }
@@ -130,6 +146,27 @@ impl<const D: usize> Integrator<D> {
         if let Some(stress_rate) = &mut self.rates.stress_rate {
             permutation.apply(stress_rate);
         }
+    }
+
+    /// Drops the entries of the particles `k` without `keep[k]` from every per-particle array,
+    /// as [`Particles::retain`] does to the particles, and forgets the cached rates (they
+    /// include the forces of the removed particles).
+    pub fn retain(&mut self, keep: &[bool]) {
+        self.rates.retain(keep);
+        self.accumulated.retain(keep);
+        let start = &mut self.start;
+        for field in [
+            &mut self.position_rate,
+            &mut start.position,
+            &mut start.velocity,
+        ] {
+            retain_sized(field, keep);
+        }
+        retain_sized(&mut start.density, keep);
+        if let Some(stress) = &mut start.stress {
+            retain_sized(stress, keep);
+        }
+        self.invalidate();
     }
 
     /// Forgets cached rates, e.g. after particles were changed outside the integrator.
@@ -312,6 +349,14 @@ impl<const D: usize> StartState<D> {
         {
             from_start(&mut soil.stress, start, rate, dt);
         }
+    }
+}
+
+/// [`geosph_core::retain`] on a scratch array that exists for this scheme (an unused one is
+/// empty).
+fn retain_sized<T>(values: &mut Vec<T>, keep: &[bool]) {
+    if !values.is_empty() {
+        geosph_core::retain(values, keep);
     }
 }
 

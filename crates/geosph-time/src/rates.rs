@@ -40,6 +40,31 @@ impl<const D: usize> Rates<D> {
         self.acceleration.is_empty()
     }
 
+    /// Drops the rates of the particles `k` without `keep[k]` (nothing when these rates are
+    /// unused and empty).
+    pub fn retain(&mut self, keep: &[bool]) {
+        if self.is_empty() {
+            return;
+        }
+        geosph_core::retain(&mut self.acceleration, keep);
+        geosph_core::retain(&mut self.density_rate, keep);
+        geosph_core::retain(&mut self.position_correction, keep);
+        if let Some(stress_rate) = &mut self.stress_rate {
+            geosph_core::retain(stress_rate, keep);
+        }
+    }
+
+    /// Keeps the rates of the first `n` particles (the scratch of a restart with fewer
+    /// particles than were built; its values are overwritten before they are read).
+    pub fn truncate(&mut self, n: usize) {
+        self.acceleration.truncate(n);
+        self.density_rate.truncate(n);
+        self.position_correction.truncate(n);
+        if let Some(stress_rate) = &mut self.stress_rate {
+            stress_rate.truncate(n);
+        }
+    }
+
     /// Largest |dv/dt|, reduced in a fixed order.
     pub fn max_acceleration(&self) -> Real {
         self.acceleration

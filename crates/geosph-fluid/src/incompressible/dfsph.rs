@@ -252,6 +252,14 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
         }
     }
 
+    fn retain(&mut self, keep: &[bool]) {
+        for summed in [&mut self.density_pressure, &mut self.divergence_pressure] {
+            if summed.len() == keep.len() {
+                geosph_core::retain(summed, keep);
+            }
+        }
+    }
+
     fn save_state(&self, arrays: &mut StateArrays) {
         arrays.push("density_pressure", &self.density_pressure);
         arrays.push("divergence_pressure", &self.divergence_pressure);

@@ -128,6 +128,10 @@ pub trait PressureMethod<const D: usize>: Send {
     /// Reorders the method's own per-particle arrays.
     fn permute(&mut self, _permutation: &Permutation) {}
 
+    /// Drops the entries of the particles `k` without `keep[k]` from the method's own
+    /// per-particle arrays.
+    fn retain(&mut self, _keep: &[bool]) {}
+
     /// Adds the method's own warm-start arrays to a checkpoint's `arrays`.
     fn save_state(&self, _arrays: &mut StateArrays) {}
 
@@ -297,6 +301,20 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> FluidS
 
     fn blow_up_advice(&self) -> &'static str {
         "the pressure solve did not hold the density: lower `cfl`, set `max_time_step`, or raise `max_iterations`"
+    }
+
+    /// The pressure warm start travels with the particles, the method's own with
+    /// [`PressureMethod::retain`]; lists, densities and diagonals are rebuilt for the
+    /// particles that remain.
+    fn remove_particles(
+        &mut self,
+        fluid: &mut Particles<D>,
+        keep: &[bool],
+    ) -> Result<(), SolverError> {
+        fluid.retain(keep);
+        self.method.retain(keep);
+        self.system.update(fluid)?;
+        Ok(())
     }
 
     /// The step count, the acceleration bound of the next step's Δt and the method's warm

@@ -6,7 +6,8 @@
 //!
 //! 1. the time step is finite and positive;
 //! 2. every position, velocity, density (and soil stress) is finite;
-//! 3. every particle is inside the domain on its non-periodic axes;
+//! 3. every particle is inside the domain on its non-periodic axes (the runner has removed
+//!    those that left, [`crate::escape`], unless too many did);
 //! 4. the density error is at most [`MAX_DENSITY_ERROR`];
 //! 5. soil only: the stress magnitude ‖σ‖ is at most [`Limits::max_stress`];
 //! 6. the kinetic energy is within the [`EnergyBudget`].
@@ -138,6 +139,17 @@ pub struct EnergyBudget {
 }
 
 impl EnergyBudget {
+    /// Takes out of the budget the particles removed from the run (they left the domain),
+    /// whose ½ m |v|² sums to `kinetic_energy` and m g·x to `gravity_moment` when they go.
+    /// The balance then holds for the particles that remain: the kinetic energy carried away
+    /// is no longer available to them, and the work of gravity is still measured on each of
+    /// them from its own start (without this a particle falling out through the floor would
+    /// take its work with it and lower the bound of the others).
+    pub fn carry_away(&mut self, kinetic_energy: Real, gravity_moment: Real) {
+        self.initial -= kinetic_energy;
+        self.initial_gravity_moment -= gravity_moment;
+    }
+
     /// The largest kinetic energy allowed when the particles' Σ m g·x is `gravity_moment`.
     pub fn bound(&self, gravity_moment: Real) -> Real {
         let work = gravity_moment - self.initial_gravity_moment;

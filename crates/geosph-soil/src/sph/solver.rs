@@ -136,6 +136,18 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         "the soil is compressed far beyond its elastic range: lower `cfl`, or raise the artificial viscosity"
     }
 
+    /// Stress, strain and displacement travel with the particles; the last accelerations (they
+    /// bound the next Δt) lose the same entries.
+    fn remove_particles(
+        &mut self,
+        soil: &mut Particles<D>,
+        keep: &[bool],
+    ) -> Result<(), SolverError> {
+        soil.retain(keep);
+        self.system.retain(keep);
+        Ok(())
+    }
+
     /// The step count, the last accelerations (they bound the next Δt) and the positions of
     /// the neighbour lists; stress, strain and displacement travel with the particles.
     fn save_state(&self) -> SolverState {

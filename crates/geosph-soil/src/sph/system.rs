@@ -205,13 +205,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         if removed == 0 {
             return Ok(0);
         }
-        fn retain<T>(values: &mut Vec<T>, keep: &[bool]) {
-            let mut index = 0;
-            values.retain(|_| {
-                index += 1;
-                keep[index - 1]
-            });
-        }
+        use geosph_core::retain;
         let w = &mut self.walls;
         retain(&mut w.position, &keep);
         retain(&mut w.velocity, &keep);
@@ -225,6 +219,15 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         self.wall_grid.build(&self.walls.position)?;
         self.lists_valid = false;
         Ok(removed)
+    }
+
+    /// Drops the accelerations of the soil particles `k` without `keep[k]` (particles that left
+    /// the domain, removed from the particles as well) and forgets the neighbour lists.
+    pub fn retain(&mut self, keep: &[bool]) {
+        if self.acceleration.len() == keep.len() {
+            geosph_core::retain(&mut self.acceleration, keep);
+        }
+        self.lists_valid = false;
     }
 
     /// The positions the neighbour lists were built at, while they are valid (for a

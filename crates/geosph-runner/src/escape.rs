@@ -1,0 +1,257 @@
+//! Particles that leave the domain: removed from the run, counted and reported.
+//!
+//! A particle with a finite position outside the domain on a non-periodic axis (a droplet
+//! thrown over a wall, a grain falling past the end of a slope) has left the simulation, as in
+//! DualSPHysics. [`Escapes`] removes it from the particles and, through
+//! [`FluidSolver::remove_particles`], from the solver's per-particle state, keeping the order
+//! of the others (so a run stays the same for any number of threads), and counts it in the
+//! loop's [`Progress`]. It finds such particles
+//!
+//! - after every step, before the health check ([`Escapes::after_step`]);
+//! - inside a step whose neighbour search failed on a particle outside the domain
+//!   ([`Escapes::during_step`]): the particles go back to the state before the step, those the
+//!   failed step moved out are removed, and the runner takes the step again. Such a particle
+//!   is removed at the start of the step in which it would leave.
+//!
+//! A non-finite position is never an escape: the health check diagnoses it as a blow-up. Once
+//! more than `health.max_escaped_fraction` of the particles would have left, the run stops
+//! with the outside-domain diagnosis instead, so that a blow-up is not hidden by removing
+//! what it throws out. A step in which nothing left costs one pass over the positions.
+
+use geosph_core::{Domain, Particles, Permutation, Real, Vector};
+use geosph_fluid::{FluidSolver, SolverError};
+use geosph_neighbours::SearchError;
+
+use crate::checkpoint::Progress;
+use crate::health::{self, Diagnosis, Limits, Scan};
+
+/// What [`Escapes`] did after a step or a failed step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Removal {
+    /// No particle left the domain (or some position is not finite: a blow-up, not an
+    /// escape).
+    Nothing,
+    /// Particles left the domain and were removed.
+    Removed,
+    /// Removing them would exceed the allowed fraction: the run stops with this diagnosis of
+    /// the failed state.
+    TooMany(Diagnosis),
+}
+
+/// Removes the particles that leave the domain; holds the allowed fraction and the mask of
+/// the particles kept (allocated at the first escape, then reused).
+#[derive(Clone, Debug)]
+pub struct Escapes {
+    max_fraction: Real,
+    keep: Vec<bool>,
+}
+
+impl Escapes {
+    /// At most `max_fraction` of the particles of the run may leave (the scene's
+    /// `health.max_escaped_fraction`).
+    pub fn new(max_fraction: Real) -> Self {
+        Self {
+            max_fraction,
+            keep: Vec::new(),
+        }
+    }
+
+    /// Removes the particles of `fluid` outside the domain of `limits` after a step that
+    /// ended at `time`, from `fluid` and `solver`, counts them in `progress` and takes their
+    /// energy out of the budget of `limits`.
+    pub fn after_step<const D: usize>(
+        &mut self,
+        fluid: &mut Particles<D>,
+        solver: &mut dyn FluidSolver<D>,
+        limits: &mut Limits<D>,
+        progress: &mut Progress,
+        time: Real,
+    ) -> Result<Removal, SolverError> {
+        let Some(count) = self.mark(fluid, &limits.domain) else {
+            return Ok(Removal::Nothing);
+        };
+        if let Some(diagnosis) = self.too_many(count, fluid, limits, progress) {
+            return Ok(Removal::TooMany(diagnosis));
+        }
+        self.remove(count, fluid, solver, limits, progress, time)?;
+        Ok(Removal::Removed)
+    }
+
+    /// After `solver` failed with `error` in the step from `time`: when the neighbour search
+    /// found particles outside the domain, puts `fluid` back to `last_good` (the state before
+    /// the step), removes from it the particles that the failed step moved out, and returns
+    /// [`Removal::Removed`]: the caller takes the step again.
+    pub fn during_step<const D: usize>(
+        &mut self,
+        error: &SolverError,
+        fluid: &mut Particles<D>,
+        last_good: &Particles<D>,
+        solver: &mut dyn FluidSolver<D>,
+        limits: &mut Limits<D>,
+        progress: &mut Progress,
+        time: Real,
+    ) -> Result<Removal, SolverError> {
+        if !matches!(
+            error,
+            SolverError::Search(SearchError::OutsideDomain { .. })
+        ) {
+            return Ok(Removal::Nothing);
+        }
+        let Some(count) = self.mark(fluid, &limits.domain) else {
+            return Ok(Removal::Nothing);
+        };
+        if let Some(diagnosis) = self.too_many(count, fluid, limits, progress) {
+            return Ok(Removal::TooMany(diagnosis));
+        }
+        rewind(fluid, last_good);
+        self.remove(count, fluid, solver, limits, progress, time)?;
+        Ok(Removal::Removed)
+    }
+
+    /// Sets the mask to keep the particles inside the domain and returns how many are
+    /// outside; `None` when none is, or when a position is not finite.
+    fn mark<const D: usize>(&mut self, fluid: &Particles<D>, domain: &Domain<D>) -> Option<usize> {
+        let mut count = 0;
+        let mut finite = true;
+        for x in &fluid.position {
+            finite &= x.iter().all(|c| c.is_finite());
+            count += usize::from(outside(x, domain));
+        }
+        if !finite || count == 0 {
+            return None;
+        }
+        self.keep.clear();
+        self.keep
+            .extend(fluid.position.iter().map(|x| !outside(x, domain)));
+        Some(count)
+    }
+
+    /// The diagnosis when `count` more particles of `fluid` leaving would exceed the allowed
+    /// fraction of the run's particles.
+    fn too_many<const D: usize>(
+        &self,
+        count: usize,
+        fluid: &Particles<D>,
+        limits: &Limits<D>,
+        progress: &Progress,
+    ) -> Option<Diagnosis> {
+        let total = fluid.len() as u64 + progress.escaped;
+        let escaped = progress.escaped + count as u64;
+        let fraction = escaped as Real / total as Real;
+        if fraction <= self.max_fraction {
+            return None;
+        }
+        let (i, distance) = Scan::first_outside(fluid, limits)?;
+        let mut diagnosis =
+            health::outside_domain(i, fluid.id[i], distance, &fluid.position[i], &limits.domain);
+        diagnosis.explanation = format!(
+            "{escaped} of {total} particles ({:.2} %) would have left the domain, more than `health.max_escaped_fraction` = {} allows; the first {}",
+            100.0 * fraction,
+            self.max_fraction,
+            diagnosis.explanation
+        );
+        Some(diagnosis)
+    }
+
+    /// Removes the `count` particles the mask drops, from `fluid` and `solver`.
+    fn remove<const D: usize>(
+        &self,
+        count: usize,
+        fluid: &mut Particles<D>,
+        solver: &mut dyn FluidSolver<D>,
+        limits: &mut Limits<D>,
+        progress: &mut Progress,
+        time: Real,
+    ) -> Result<(), SolverError> {
+        let (mut kinetic_energy, mut gravity_moment, mut mass) = (0.0, 0.0, 0.0);
+        for (i, _) in self.keep.iter().enumerate().filter(|(_, keep)| !**keep) {
+            let m = fluid.mass[i];
+            kinetic_energy += 0.5 * m * fluid.velocity[i].norm_squared();
+            gravity_moment += m * limits.gravity.dot(&fluid.position[i]);
+            mass += m;
+        }
+        if let Some(budget) = &mut limits.energy {
+            budget.carry_away(kinetic_energy, gravity_moment);
+        }
+        progress.escaped += count as u64;
+        progress.escaped_mass += mass;
+        progress.first_escape.get_or_insert(time);
+        solver.remove_particles(fluid, &self.keep)
+    }
+}
+
+/// Whether `x` lies outside `domain` on a non-periodic axis (or has a NaN coordinate there).
+fn outside<const D: usize>(x: &Vector<D>, domain: &Domain<D>) -> bool {
+    (0..D).any(|k| {
+        let inside = x[k] >= domain.min[k] && x[k] < domain.max[k];
+        !(domain.periodic[k] || inside)
+    })
+}
+
+/// Sets `fluid` to `last_good`, the same particles before the failed step, in the order of
+/// `fluid`: the solver's per-particle state follows that order, which differs from
+/// `last_good`'s when the failed step sorted the particles.
+fn rewind<const D: usize>(fluid: &mut Particles<D>, last_good: &Particles<D>) {
+    if fluid.id == last_good.id {
+        fluid.clone_from(last_good);
+        return;
+    }
+    let slots = last_good
+        .id
+        .iter()
+        .map(|&id| id as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut slot_of = vec![u32::MAX; slots];
+    for (k, &id) in last_good.id.iter().enumerate() {
+        slot_of[id as usize] = k as u32;
+    }
+    let order = fluid.id.iter().map(|&id| slot_of[id as usize]).collect();
+    let permutation =
+        Permutation::from_order(order).expect("a step keeps its particles, only reorders them");
+    fluid.clone_from(last_good);
+    fluid.permute(&permutation);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rewind_restores_the_state_before_a_sort() {
+        let position = (0..5).map(|i| Vector::<2>::new(i as Real, 0.0)).collect();
+        let last_good = Particles::at_rest(position, 1.0, 1000.0);
+        let mut fluid = last_good.clone();
+        let sort = Permutation::from_order(vec![3, 0, 4, 1, 2]).unwrap();
+        fluid.permute(&sort);
+        fluid.position.iter_mut().for_each(|x| x[1] = 7.0);
+        rewind(&mut fluid, &last_good);
+        assert_eq!(fluid.id, [3, 0, 4, 1, 2]);
+        for (x, &id) in fluid.position.iter().zip(&fluid.id) {
+            assert_eq!(*x, Vector::<2>::new(id as Real, 0.0));
+        }
+    }
+
+    #[test]
+    fn only_finite_positions_outside_are_marked() {
+        let domain = Domain::with_periodic(
+            Vector::<2>::zeros(),
+            Vector::<2>::repeat(1.0),
+            [true, false],
+        )
+        .unwrap();
+        let position = vec![
+            Vector::<2>::new(0.5, 0.5),
+            Vector::<2>::new(0.5, 1.0),
+            Vector::<2>::new(1.5, 0.5),
+            Vector::<2>::new(0.5, -0.1),
+        ];
+        let mut fluid = Particles::at_rest(position, 1.0, 1000.0);
+        let mut escapes = Escapes::new(0.5);
+        // The upper face is outside (the domain is half-open); x is periodic.
+        assert_eq!(escapes.mark(&fluid, &domain), Some(2));
+        assert_eq!(escapes.keep, [true, false, true, false]);
+        fluid.position[0][0] = Real::NAN;
+        assert_eq!(escapes.mark(&fluid, &domain), None);
+    }
+}
