@@ -81,7 +81,7 @@ fn main() -> ExitCode {
             println!("{}", report.summary);
             println!("{report}");
             println!(
-                "output             {} (open {}.pvd in ParaView; runout.csv, runout.png, deposit.png)",
+                "output             {} (open {}.pvd in ParaView; runout.csv, runout.png, deposit.csv, deposit.png)",
                 out.display(),
                 scene.name
             );

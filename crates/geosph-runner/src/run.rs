@@ -91,9 +91,14 @@ impl std::fmt::Display for Summary {
             "scene              {} ({}D, {})",
             self.scene, self.dimension, self.solver
         )?;
+        let material = if self.solver == "soil-sph" {
+            "soil"
+        } else {
+            "fluid"
+        };
         writeln!(
             f,
-            "particles          {} fluid + {} wall ({} bytes of fields per fluid particle)",
+            "particles          {} {material} + {} wall ({} bytes of fields per {material} particle)",
             self.fluid_particles, self.wall_particles, self.bytes_per_particle
         )?;
         writeln!(
@@ -115,11 +120,14 @@ impl std::fmt::Display for Summary {
             100.0 * self.mean_density_error,
             100.0 * self.max_density_error
         )?;
-        writeln!(
-            f,
-            "iterations         {:.1} per step (divergence solve {:.1})",
-            self.mean_iterations, self.mean_divergence_iterations
-        )?;
+        // The explicit solvers take one pass per step; only the pressure solvers iterate.
+        if !matches!(self.solver, "wcsph" | "soil-sph") {
+            writeln!(
+                f,
+                "iterations         {:.1} per step (divergence solve {:.1})",
+                self.mean_iterations, self.mean_divergence_iterations
+            )?;
+        }
         if let Some(first) = self.first_escape {
             writeln!(
                 f,
