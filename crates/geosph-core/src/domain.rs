@@ -72,6 +72,12 @@ impl<const D: usize> Domain<D> {
         (0..D).all(|k| x[k] >= self.min[k] && x[k] < self.max[k])
     }
 
+    /// Whether `x` has left the domain: it lies outside `[min, max)` on a non-periodic axis
+    /// (a NaN coordinate there counts as outside). Periodic axes have no boundary.
+    pub fn has_left(&self, x: &Vector<D>) -> bool {
+        (0..D).any(|k| !(self.periodic[k] || (x[k] >= self.min[k] && x[k] < self.max[k])))
+    }
+
     /// The minimum-image displacement `x_i − x_j`.
     ///
     /// On a periodic axis of length `L` the component `d` is replaced by `d − L·round(d/L)`,

@@ -18,7 +18,7 @@
 //! with the outside-domain diagnosis instead, so that a blow-up is not hidden by removing
 //! what it throws out. A step in which nothing left costs one pass over the positions.
 
-use geosph_core::{Domain, Particles, Permutation, Real, Vector};
+use geosph_core::{Domain, Particles, Permutation, Real};
 use geosph_fluid::{FluidSolver, SolverError};
 use geosph_neighbours::SearchError;
 
@@ -115,14 +115,14 @@ impl Escapes {
         let mut finite = true;
         for x in &fluid.position {
             finite &= x.iter().all(|c| c.is_finite());
-            count += usize::from(outside(x, domain));
+            count += usize::from(domain.has_left(x));
         }
         if !finite || count == 0 {
             return None;
         }
         self.keep.clear();
         self.keep
-            .extend(fluid.position.iter().map(|x| !outside(x, domain)));
+            .extend(fluid.position.iter().map(|x| !domain.has_left(x)));
         Some(count)
     }
 
@@ -180,14 +180,6 @@ impl Escapes {
     }
 }
 
-/// Whether `x` lies outside `domain` on a non-periodic axis (or has a NaN coordinate there).
-fn outside<const D: usize>(x: &Vector<D>, domain: &Domain<D>) -> bool {
-    (0..D).any(|k| {
-        let inside = x[k] >= domain.min[k] && x[k] < domain.max[k];
-        !(domain.periodic[k] || inside)
-    })
-}
-
 /// Sets `fluid` to `last_good`, the same particles before the failed step, in the order of
 /// `fluid`: the solver's per-particle state follows that order, which differs from
 /// `last_good`'s when the failed step sorted the particles.
@@ -216,6 +208,7 @@ fn rewind<const D: usize>(fluid: &mut Particles<D>, last_good: &Particles<D>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use geosph_core::Vector;
 
     #[test]
     fn rewind_restores_the_state_before_a_sort() {
