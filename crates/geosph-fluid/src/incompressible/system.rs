@@ -8,7 +8,7 @@ use geosph_kernels::Kernel;
 use geosph_neighbours::{CellGrid, SearchError};
 use rayon::prelude::*;
 
-use crate::incompressible::pairs::for_each_particle_pairs;
+use crate::incompressible::pairs::{ParticleView, for_each_particle};
 use crate::viscosity::{Pair, Viscosity};
 
 /// How walls take part in the pressure force.
@@ -135,110 +135,78 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         self.wall_grid
             .neighbour_list(&self.walls.position, &fluid.position, &mut self.fluid_wall);
 
-        let (kernel, domain, position) = (self.kernel, &self.domain, &fluid.position);
-        let walls = &self.walls;
         self.fluid_gradient
             .resize(self.fluid_fluid.pair_count(), Vector::zeros());
-        for_each_particle_pairs(
-            &self.fluid_fluid,
-            &mut self.fluid_gradient,
-            |i, neighbours, gradients| {
-                for (&j, gradient) in neighbours.iter().zip(gradients) {
-                    *gradient =
-                        kernel.gradient(&domain.displacement(&position[i], &position[j as usize]));
-                }
-            },
-        );
         self.wall_gradient
             .resize(self.fluid_wall.pair_count(), Vector::zeros());
-        for_each_particle_pairs(
-            &self.fluid_wall,
-            &mut self.wall_gradient,
-            |i, neighbours, gradients| {
-                for (&b, gradient) in neighbours.iter().zip(gradients) {
-                    *gradient = kernel
-                        .gradient(&domain.displacement(&position[i], &walls.position[b as usize]));
-                }
-            },
-        );
-        self.sum_density(fluid);
-        self.compute_diagonal(fluid);
-        Ok(())
-    }
-
-    fn sum_density(&mut self, fluid: &mut Particles<D>) {
+        self.wall_gradient_sum.resize(fluid.len(), Vector::zeros());
+        self.diagonal.resize(fluid.len(), 0.0);
         let (kernel, domain, rho0) = (self.kernel, &self.domain, self.rest_density);
-        let (fluid_fluid, fluid_wall, walls) = (&self.fluid_fluid, &self.fluid_wall, &self.walls);
+        let (walls, correction) = (&self.walls, self.gradient_correction);
         let Particles {
             position,
             mass,
             density,
             ..
         } = fluid;
-        density.par_iter_mut().enumerate().for_each(|(i, rho_i)| {
-            let mut sum = 0.0;
-            for &j in fluid_fluid.neighbours(i) {
-                let j = j as usize;
-                sum +=
-                    mass[j] * kernel.value(domain.displacement(&position[i], &position[j]).norm());
-            }
-            for &b in fluid_wall.neighbours(i) {
-                let b = b as usize;
-                let r = domain.displacement(&position[i], &walls.position[b]).norm();
-                sum += rho0 * walls.volume[b] * kernel.value(r);
-            }
-            *rho_i = sum;
-        });
+        let (position, mass) = (&*position, &*mass);
+        // One pass: each particle's gradients ∇_i W_ij, its summation density and its diagonal
+        // (which needs only the gradients), from one distance per pair.
+        for_each_particle(
+            (&self.fluid_fluid, &self.fluid_wall),
+            &mut self.fluid_gradient,
+            &mut self.wall_gradient,
+            (
+                density.as_mut_slice(),
+                self.diagonal.as_mut_slice(),
+                self.wall_gradient_sum.as_mut_slice(),
+            ),
+            |i, view: ParticleView<'_, Vector<D>, Vector<D>, Real, Real, Vector<D>>| {
+                let x_i = position[i];
+                let mut rho = 0.0;
+                let mut fluid_sum = Vector::<D>::zeros();
+                let mut squares = 0.0;
+                for (&j, gradient) in view.fluid.iter().zip(view.fluid_values.iter_mut()) {
+                    let j = j as usize;
+                    let r_ij = domain.displacement(&x_i, &position[j]);
+                    let r = r_ij.norm();
+                    let m_j = mass[j];
+                    *gradient = r_ij * kernel.gradient_factor(r);
+                    rho += m_j * kernel.value(r);
+                    fluid_sum += *gradient * m_j;
+                    squares += m_j * gradient.norm_squared();
+                }
+                let mut wall_sum = Vector::<D>::zeros();
+                for (&b, gradient) in view.wall.iter().zip(view.wall_values.iter_mut()) {
+                    let b = b as usize;
+                    let r_ib = domain.displacement(&x_i, &walls.position[b]);
+                    let r = r_ib.norm();
+                    let m_b = rho0 * walls.volume[b];
+                    *gradient = r_ib * kernel.gradient_factor(r);
+                    rho += m_b * kernel.value(r);
+                    wall_sum += *gradient * m_b;
+                }
+                let (density, diagonal, wall_gradient_sum) = view.own;
+                *density = rho;
+                *wall_gradient_sum = wall_sum;
+                *diagonal = correction
+                    * ((fluid_sum + wall_sum * 2.0).dot(&(fluid_sum + wall_sum))
+                        + mass[i] * squares);
+            },
+        );
+        Ok(())
     }
 
+    /// The diagonal d_i of the pressure system for every particle:
+    ///
     /// d_i = c (G_i·S_i + m_i Σ_j m_j |∇_i W_ij|²), with S_i = Σ_j m_j ∇_i W_ij + Σ_b m_b ∇_i W_ib,
     /// G_i = Σ_j m_j ∇_i W_ij + 2 Σ_b m_b ∇_i W_ib (the wall term doubled by mirroring) and c
     /// the [`PressureSystem::gradient_correction`].
     ///
     /// A pressure change δp_i at particle i alone changes the predicted density of i by
-    /// −Δt² d_i δp_i / ρ_i² (derived in `docs/fluid.md`): d_i is the diagonal of the pressure
-    /// system of IISPH (Ihmsen et al. 2014, a_ii of eq. 11, written with the mirrored walls),
-    /// and ρ_i/d_i is the DFSPH factor α_i (Bender & Koschier 2017, eq. 9).
-    fn compute_diagonal(&mut self, fluid: &Particles<D>) {
-        let rho0 = self.rest_density;
-        let (fluid_fluid, fluid_wall) = (&self.fluid_fluid, &self.fluid_wall);
-        let (fluid_gradient, wall_gradient, walls) =
-            (&self.fluid_gradient, &self.wall_gradient, &self.walls);
-        let mass = &fluid.mass;
-        let correction = self.gradient_correction;
-        self.wall_gradient_sum.resize(fluid.len(), Vector::zeros());
-        self.diagonal.resize(fluid.len(), 0.0);
-        self.diagonal
-            .par_iter_mut()
-            .zip(self.wall_gradient_sum.par_iter_mut())
-            .enumerate()
-            .for_each(|(i, (d_i, wall_sum))| {
-                let (start, end) = range(fluid_fluid, i);
-                let mut fluid_sum = Vector::<D>::zeros();
-                let mut squares = 0.0;
-                for (&j, gradient) in fluid_fluid.indices[start..end]
-                    .iter()
-                    .zip(&fluid_gradient[start..end])
-                {
-                    let m_j = mass[j as usize];
-                    fluid_sum += gradient * m_j;
-                    squares += m_j * gradient.norm_squared();
-                }
-                let (start, end) = range(fluid_wall, i);
-                let mut sum = Vector::<D>::zeros();
-                for (&b, gradient) in fluid_wall.indices[start..end]
-                    .iter()
-                    .zip(&wall_gradient[start..end])
-                {
-                    sum += gradient * (rho0 * walls.volume[b as usize]);
-                }
-                *wall_sum = sum;
-                *d_i = correction
-                    * ((fluid_sum + sum * 2.0).dot(&(fluid_sum + sum)) + mass[i] * squares);
-            });
-    }
-
-    /// The diagonal d_i of every particle (see the private `compute_diagonal`).
+    /// −Δt² d_i δp_i / ρ_i² (derived in `docs/incompressible.md`): d_i is the diagonal of the
+    /// pressure system of IISPH (Ihmsen et al. 2014, a_ii of eq. 11, written with the mirrored
+    /// walls), and ρ_i/d_i is the DFSPH factor α_i (Bender & Koschier 2017, eq. 9).
     pub fn diagonal(&self) -> &[Real] {
         &self.diagonal
     }
