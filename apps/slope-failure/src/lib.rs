@@ -133,6 +133,40 @@ pub struct Sample {
     pub kinetic_energy: Real,
 }
 
+impl Sample {
+    /// Column names of [`Sample::record`] in `runout.csv`.
+    pub const COLUMNS: [&'static str; 5] = [
+        "t",
+        "runout",
+        "runout_front",
+        "height_at_wall",
+        "kinetic_energy",
+    ];
+
+    /// The sample as one row: t, runout, front, height at the wall, kinetic energy (the
+    /// order of `runout.csv` and of the checkpointed series).
+    pub fn record(&self) -> [Real; 5] {
+        [
+            self.time,
+            self.runout,
+            self.front,
+            self.height_at_wall,
+            self.kinetic_energy,
+        ]
+    }
+
+    /// The inverse of [`Sample::record`].
+    pub fn from_record([time, runout, front, height_at_wall, kinetic_energy]: [Real; 5]) -> Self {
+        Self {
+            time,
+            runout,
+            front,
+            height_at_wall,
+            kinetic_energy,
+        }
+    }
+}
+
 /// Samples the front, the height at the wall and the kinetic energy, and keeps the (x, up)
 /// positions of the first and the last sample for the deposit profile.
 #[derive(Clone, Debug)]
@@ -234,18 +268,7 @@ impl<const D: usize> Observer<D> for RunoutTracker {
     fn save_state(&self) -> Vec<Real> {
         let mut state = Vec::new();
         let samples = self.samples.iter();
-        push_records(
-            &mut state,
-            samples.map(|s| {
-                [
-                    s.time,
-                    s.runout,
-                    s.front,
-                    s.height_at_wall,
-                    s.kinetic_energy,
-                ]
-            }),
-        );
+        push_records(&mut state, samples.map(Sample::record));
         push_records(&mut state, self.initial.iter().map(|&(x, y)| [x, y]));
         push_records(&mut state, self.latest.iter().map(|&(x, y)| [x, y]));
         state
@@ -254,15 +277,7 @@ impl<const D: usize> Observer<D> for RunoutTracker {
     fn restore_state(&mut self, mut state: &[Real]) -> Result<(), String> {
         self.samples = take_records(&mut state)?
             .into_iter()
-            .map(
-                |[time, runout, front, height_at_wall, kinetic_energy]| Sample {
-                    time,
-                    runout,
-                    front,
-                    height_at_wall,
-                    kinetic_energy,
-                },
-            )
+            .map(Sample::from_record)
             .collect();
         let points = |state: &mut &[Real]| -> Result<Vec<(Real, Real)>, String> {
             Ok(take_records(state)?
@@ -365,22 +380,8 @@ fn write_outputs(dir: &Path, column: &Column, tracker: &RunoutTracker) -> Result
     let samples = &tracker.samples;
     write_csv_atomically(
         dir.join("runout.csv"),
-        &[
-            "t",
-            "runout",
-            "runout_front",
-            "height_at_wall",
-            "kinetic_energy",
-        ],
-        samples.iter().map(|s| {
-            [
-                s.time,
-                s.runout,
-                s.front,
-                s.height_at_wall,
-                s.kinetic_energy,
-            ]
-        }),
+        &Sample::COLUMNS,
+        samples.iter().map(Sample::record),
     )?;
     let t: Vec<Real> = samples.iter().map(|s| s.time).collect();
     let runout: Vec<Real> = samples.iter().map(|s| s.runout).collect();

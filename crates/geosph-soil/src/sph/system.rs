@@ -173,11 +173,6 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         self.correct_velocity_gradient = on;
     }
 
-    /// The velocity gradients L_i of the last step.
-    pub fn velocity_gradient(&self) -> &[Matrix<D>] {
-        &self.velocity_gradient
-    }
-
     /// The soil–soil neighbour list of the last step (self included).
     pub fn soil_neighbours(&self) -> &NeighbourList {
         &self.soil_soil
