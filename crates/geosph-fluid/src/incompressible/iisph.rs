@@ -21,7 +21,9 @@ use crate::viscosity::Viscosity;
 ///
 /// with ρ̃_i the density the current pressures predict, the diagonal −Δt² d_i/ρ_i² of
 /// [`PressureSystem::diagonal`], ω = 0.5 and the warm start p = ½ p of the previous step
-/// (ibid., §3.3 and §4).
+/// (ibid., §3.3 and §4). ω is capped at [`PressureSystem::relaxation_limit`], below which the
+/// iteration converges on the kernel's lattice (0.5 is within it for Wendland C2 and the cubic
+/// spline in 2D, not for the quintic spline or in 3D).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Iisph {
     /// Relaxation ω of the Jacobi update (Ihmsen et al.: 0.5).
@@ -53,7 +55,7 @@ impl<const D: usize> PressureMethod<D> for Iisph {
         let warm_start = self.warm_start;
         let pressure = fluid.pressure.as_mut().expect("pressure is enabled");
         pressure.par_iter_mut().for_each(|p| *p *= warm_start);
-        let relaxation = self.relaxation;
+        let relaxation = self.relaxation.min(system.relaxation_limit());
         let diagonal = system.diagonal();
         relaxed_jacobi(system, fluid, dt, settings, scratch, |i, rho_i| {
             if diagonal[i] > 0.0 {

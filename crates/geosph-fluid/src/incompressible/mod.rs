@@ -23,7 +23,9 @@ mod system;
 pub use dfsph::Dfsph;
 pub use iisph::Iisph;
 pub use pcisph::Pcisph;
-pub use system::{PressureSystem, WallPressure, lattice_gradient_factor, lattice_kernel_sum};
+pub use system::{
+    PressureSystem, WallPressure, lattice_gradient_factor, lattice_jacobi_bound, lattice_kernel_sum,
+};
 
 use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Permutation, Real, Vector};
@@ -177,6 +179,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
         fluid.mass.iter_mut().for_each(|m| *m *= scale);
         system.walls.volume.iter_mut().for_each(|v| *v *= scale);
         system.gradient_correction = 1.0 / lattice_gradient_factor(&system.kernel, spacing);
+        system.jacobi_bound = lattice_jacobi_bound(&system.kernel, spacing);
         let mut method = method;
         let permutation = system.sort(fluid)?;
         method.permute(&permutation);

@@ -17,7 +17,9 @@ use crate::viscosity::Viscosity;
 /// lattice, and iterate at least three times until the average error is below the target
 /// (Solenthaler & Pajarola 2009, ACM TOG 28(3):40, eqs. 5–8 and Algorithm 1). δ is capped per
 /// particle at ρ_i² / (2 Δt² d_i), the IISPH step with ω = ½, where walls make the
-/// particle's diagonal d_i larger than the prototype's.
+/// particle's diagonal d_i larger than the prototype's. Where ½ exceeds
+/// [`PressureSystem::relaxation_limit`] (the quintic spline, 3D), the limit takes its place in
+/// both: the paper's δ then makes the stiffest lattice mode grow.
 ///
 /// The predicted density ρ̃ is evaluated from the predicted velocities with the continuity
 /// equation, ρ̃_i = ρ_i + Δt Σ_j m_j (ṽ_i − ṽ_j)·∇_i W_ij, rather than by a kernel sum at
@@ -62,7 +64,10 @@ impl<const D: usize> PressureMethod<D> for Pcisph {
         let pressure = fluid.pressure.as_mut().expect("pressure is enabled");
         pressure.par_iter_mut().for_each(|p| *p = 0.0);
         let rho0 = system.rest_density;
-        let delta = rho0 * rho0 / (2.0 * dt * dt * self.prototype_diagonal);
+        // δ is the Jacobi step of relaxation ½ on the prototype's diagonal; where ½ exceeds
+        // the system's relaxation limit (the quintic spline, 3D), the limit replaces it.
+        let relaxation = system.relaxation_limit().min(0.5);
+        let delta = relaxation * rho0 * rho0 / (dt * dt * self.prototype_diagonal);
         let settings = PressureSolveSettings {
             min_iterations: settings.min_iterations.max(3),
             ..*settings
@@ -73,7 +78,7 @@ impl<const D: usize> PressureMethod<D> for Pcisph {
             // wall, whose mirrored pressure doubles its share, d_i exceeds the prototype's
             // and the global δ would over-relax.
             if diagonal[i] > 0.0 {
-                delta.min(0.5 * rho_i * rho_i / (dt * dt * diagonal[i]))
+                delta.min(relaxation * rho_i * rho_i / (dt * dt * diagonal[i]))
             } else {
                 0.0
             }

@@ -59,6 +59,10 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
     /// 1/f of [`lattice_gradient_factor`], so that the pressure force of a linear pressure
     /// field on the initial lattice is exact.
     pub gradient_correction: Real,
+    /// λ_max of [`lattice_jacobi_bound`] for the kernel and spacing (set by the solvers; 0:
+    /// unknown, no limit), which bounds the relaxation of the Jacobi solves
+    /// ([`PressureSystem::relaxation_limit`]).
+    pub jacobi_bound: Real,
     fluid_grid: CellGrid<D>,
     wall_grid: CellGrid<D>,
     fluid_fluid: NeighbourList,
@@ -97,6 +101,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             walls,
             wall_pressure,
             gradient_correction: 1.0,
+            jacobi_bound: 0.0,
             fluid_grid,
             wall_grid,
             fluid_fluid: NeighbourList::new(),
@@ -106,6 +111,19 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             wall_gradient_sum: Vec::new(),
             diagonal: Vec::new(),
         })
+    }
+
+    /// The largest relaxation ω a Jacobi solve of the pressure system may use:
+    /// 1.5 / λ_max with λ_max = [`PressureSystem::jacobi_bound`], so that the stiffest mode of
+    /// the lattice is damped by |1 − ω λ_max| ≤ ½ per iteration instead of growing (it grows
+    /// for ω λ_max > 2: ω = ½ with the quintic spline, λ_max = 4.11, or with Wendland C2 in 3D,
+    /// 4.20). Infinite when the bound is unknown.
+    pub fn relaxation_limit(&self) -> Real {
+        if self.jacobi_bound > 0.0 {
+            1.5 / self.jacobi_bound
+        } else {
+            Real::INFINITY
+        }
     }
 
     /// The fluid–fluid neighbour list of the last update.
@@ -437,10 +455,61 @@ pub fn lattice_gradient_factor<const D: usize, K: Kernel<D>>(kernel: &K, spacing
     volume * sum / D as Real
 }
 
+/// The largest eigenvalue λ_max of D⁻¹A for the pressure system A of a filled lattice of
+/// spacing dx, D its diagonal: the bound on the relaxation of a Jacobi iteration on it, which
+/// converges only for ω λ_max < 2.
+///
+/// On the lattice A is a convolution, so its eigenvectors are the Fourier modes p_j = e^{ik·x_j}
+/// and, with the pressure force of [`PressureSystem::pressure_acceleration`] and the
+/// continuity divergence, its eigenvalue over the diagonal is
+///
+/// λ(k) = |Σ_j sin(k·x_j) ∇W(x_j)|² / Σ_j |∇W(x_j)|²,
+///
+/// maximised here over k in the quarter [0, π/dx]^D of the Brillouin zone (λ is even in each
+/// component of k on a lattice symmetric under reflections), on a grid of 25 points per axis
+/// in 2D and 13 in 3D. For Wendland C2 at h = 1.3 dx in 2D λ_max = 2.60, so Ihmsen et al.'s
+/// ω = 0.5 is 65 % of the limit; for the quintic spline at the same h it is 4.11, and ω = 0.5
+/// diverges (see the unit test).
+pub fn lattice_jacobi_bound<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
+    let mut offsets = Vec::new();
+    let mut squares = 0.0;
+    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
+        let gradient = kernel.gradient(&-x);
+        squares += gradient.norm_squared();
+        offsets.push((x, gradient));
+    });
+    let points = if D <= 2 { 25 } else { 13 };
+    let step = std::f64::consts::PI / (spacing * (points - 1) as Real);
+    let mut largest: Real = 0.0;
+    let mut index = [0usize; D];
+    loop {
+        let k = Vector::<D>::from_fn(|axis, _| index[axis] as Real * step);
+        let sum = offsets
+            .iter()
+            .fold(Vector::<D>::zeros(), |sum, (x, gradient)| {
+                sum + gradient * k.dot(x).sin()
+            });
+        largest = largest.max(sum.norm_squared() / squares);
+        // The next grid point, axis 0 fastest.
+        let mut axis = 0;
+        loop {
+            if axis == D {
+                return largest;
+            }
+            index[axis] += 1;
+            if index[axis] < points {
+                break;
+            }
+            index[axis] = 0;
+            axis += 1;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use geosph_kernels::{CubicSpline, WendlandC2};
+    use geosph_kernels::{CubicSpline, QuinticSpline, WendlandC2};
 
     #[test]
     fn lattice_sums_are_close_to_one_over_the_cell_volume() {
@@ -481,5 +550,41 @@ mod tests {
             assert!((gradient[0] - factor).abs() < 1e-12 && gradient[1].abs() < 1e-12);
             assert!((factor - expected).abs() < 5e-4, "h = {ratio} dx: {factor}");
         }
+    }
+
+    /// λ_max against an independent computation (NumPy, 121 × 121 wave vectors over the whole
+    /// zone): 2.602 Wendland C2 and 2.880 cubic spline at h = 1.3 dx, 5.676 Wendland C2 at
+    /// h = 2 dx, 4.114 quintic spline at h = 1.3 dx (2D).
+    #[test]
+    fn lattice_jacobi_bound_matches_the_fourier_symbol() {
+        let dx: Real = 0.01;
+        for (name, bound, expected) in [
+            (
+                "wendland-c2 1.3",
+                lattice_jacobi_bound::<2, _>(&WendlandC2::<2>::new(1.3 * dx), dx),
+                2.602,
+            ),
+            (
+                "cubic 1.3",
+                lattice_jacobi_bound::<2, _>(&CubicSpline::<2>::new(1.3 * dx), dx),
+                2.880,
+            ),
+            (
+                "wendland-c2 2.0",
+                lattice_jacobi_bound::<2, _>(&WendlandC2::<2>::new(2.0 * dx), dx),
+                5.676,
+            ),
+            (
+                "quintic 1.3",
+                lattice_jacobi_bound::<2, _>(&QuinticSpline::<2>::new(1.3 * dx), dx),
+                4.114,
+            ),
+        ] {
+            println!("{name}: λ_max = {bound:.4}");
+            assert!((bound - expected).abs() < 0.01 * expected, "{name}: {bound}");
+        }
+        let bound_3d = lattice_jacobi_bound::<3, _>(&WendlandC2::<3>::new(1.3 * dx), dx);
+        println!("wendland-c2 1.3 3D: λ_max = {bound_3d:.4}");
+        assert!(bound_3d > 1.0 && bound_3d < 10.0);
     }
 }
