@@ -581,7 +581,10 @@ mod tests {
             ),
         ] {
             println!("{name}: λ_max = {bound:.4}");
-            assert!((bound - expected).abs() < 0.01 * expected, "{name}: {bound}");
+            assert!(
+                (bound - expected).abs() < 0.01 * expected,
+                "{name}: {bound}"
+            );
         }
         let bound_3d = lattice_jacobi_bound::<3, _>(&WendlandC2::<3>::new(1.3 * dx), dx);
         println!("wendland-c2 1.3 3D: λ_max = {bound_3d:.4}");
