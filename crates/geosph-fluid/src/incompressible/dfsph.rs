@@ -117,14 +117,16 @@ impl Dfsph {
                 .zip(acceleration.par_iter())
                 .for_each(|(v, a)| *v += a * dt);
         };
-        // Warm start where the particle is compressed (its rate) before any pressure acts.
+        // Warm start where the particle is compressed (its rate) before any pressure acts and
+        // can take pressure (a non-zero diagonal).
         system.divergence(mass, velocity, &system.walls.velocity, divergence);
         summed
             .par_iter_mut()
             .zip(divergence.par_iter())
             .zip(density.par_iter())
-            .for_each(|((p, div), rho_i)| {
-                *p = if residual_of(*rho_i, *div) > 0.0 {
+            .zip(diagonal.par_iter())
+            .for_each(|(((p, div), rho_i), d_i)| {
+                *p = if *d_i > 0.0 && residual_of(*rho_i, *div) > 0.0 {
                     *p * WARM_START
                 } else {
                     0.0

@@ -53,10 +53,14 @@ impl<const D: usize> PressureMethod<D> for Iisph {
         scratch: &mut Scratch<D>,
     ) -> SolveReport {
         let warm_start = self.warm_start;
-        let pressure = fluid.pressure.as_mut().expect("pressure is enabled");
-        pressure.par_iter_mut().for_each(|p| *p *= warm_start);
-        let relaxation = self.relaxation.min(system.relaxation_limit());
         let diagonal = system.diagonal();
+        let pressure = fluid.pressure.as_mut().expect("pressure is enabled");
+        // No warm start where the particle takes no pressure (a zero diagonal).
+        pressure
+            .par_iter_mut()
+            .zip(diagonal.par_iter())
+            .for_each(|(p, d)| *p = if *d > 0.0 { *p * warm_start } else { 0.0 });
+        let relaxation = self.relaxation.min(system.relaxation_limit());
         relaxed_jacobi(system, fluid, dt, settings, scratch, |i, rho_i| {
             if diagonal[i] > 0.0 {
                 relaxation * rho_i * rho_i / (dt * dt * diagonal[i])

@@ -24,7 +24,8 @@ pub use dfsph::Dfsph;
 pub use iisph::Iisph;
 pub use pcisph::Pcisph;
 pub use system::{
-    PressureSystem, WallPressure, lattice_gradient_factor, lattice_jacobi_bound, lattice_kernel_sum,
+    DIAGONAL_FLOOR, PressureSystem, WallPressure, lattice_gradient_factor,
+    lattice_gradient_squares, lattice_jacobi_bound, lattice_kernel_sum,
 };
 
 use geosph_boundary::WallParticles;
@@ -180,6 +181,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
         system.walls.volume.iter_mut().for_each(|v| *v *= scale);
         system.gradient_correction = 1.0 / lattice_gradient_factor(&system.kernel, spacing);
         system.jacobi_bound = lattice_jacobi_bound(&system.kernel, spacing);
+        system.lattice_gradient_squares = lattice_gradient_squares(&system.kernel, spacing);
         let mut method = method;
         let permutation = system.sort(fluid)?;
         method.permute(&permutation);

@@ -34,6 +34,18 @@ pub enum WallPressure {
     Hydrostatic,
 }
 
+/// Below this fraction of a filled lattice's diagonal a particle takes no pressure.
+///
+/// A spray particle whose only neighbours sit near the edge of the kernel support has a tiny
+/// d_i (|∇W| vanishes at the edge as (1 − q/2)³ for Wendland C2), so the pressure that cancels
+/// its approach rate, ∝ 1/|∇W|, is huge. Within the step the force, ∝ p |∇W|, stays bounded;
+/// but the next step's warm start applies half that pressure with the larger |∇W| of a pair
+/// that has moved closer. In the 20 m/s impact of `docs/stability.md` this threw a jet
+/// particle from 45 m/s to 6 × 10⁵ m/s in one step. Such a particle is far below ρ₀ (330
+/// kg/m³ there) and needs no pressure; SPlisHSPlasH's DFSPH likewise zeroes its factor below
+/// an absolute threshold.
+pub const DIAGONAL_FLOOR: Real = 1e-3;
+
 /// Particle-pair data of one step: neighbour lists, kernel gradients, and the sums the
 /// pressure solvers need, for a fluid with fixed or moving dummy walls.
 ///
@@ -63,6 +75,9 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
     /// unknown, no limit), which bounds the relaxation of the Jacobi solves
     /// ([`PressureSystem::relaxation_limit`]).
     pub jacobi_bound: Real,
+    /// Σ_k |∇W(x_k)|² over a filled lattice of the spacing (set by the solvers; 0: no floor),
+    /// which scales the floor of the diagonal ([`PressureSystem::diagonal`]).
+    pub lattice_gradient_squares: Real,
     fluid_grid: CellGrid<D>,
     wall_grid: CellGrid<D>,
     fluid_fluid: NeighbourList,
@@ -102,6 +117,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             wall_pressure,
             gradient_correction: 1.0,
             jacobi_bound: 0.0,
+            lattice_gradient_squares: 0.0,
             fluid_grid,
             wall_grid,
             fluid_fluid: NeighbourList::new(),
@@ -161,6 +177,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         self.diagonal.resize(fluid.len(), 0.0);
         let (kernel, domain, rho0) = (self.kernel, &self.domain, self.rest_density);
         let (walls, correction) = (&self.walls, self.gradient_correction);
+        let floor = DIAGONAL_FLOOR * correction * self.lattice_gradient_squares;
         let Particles {
             position,
             mass,
@@ -207,9 +224,14 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                 let (density, diagonal, wall_gradient_sum) = view.own;
                 *density = rho;
                 *wall_gradient_sum = wall_sum;
-                *diagonal = correction
+                let d_i = correction
                     * ((fluid_sum + wall_sum * 2.0).dot(&(fluid_sum + wall_sum))
                         + mass[i] * squares);
+                *diagonal = if d_i > floor * mass[i] * mass[i] {
+                    d_i
+                } else {
+                    0.0
+                };
             },
         );
         Ok(())
@@ -219,7 +241,8 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     ///
     /// d_i = c (G_i·S_i + m_i Σ_j m_j |∇_i W_ij|²), with S_i = Σ_j m_j ∇_i W_ij + Σ_b m_b ∇_i W_ib,
     /// G_i = Σ_j m_j ∇_i W_ij + 2 Σ_b m_b ∇_i W_ib (the wall term doubled by mirroring) and c
-    /// the [`PressureSystem::gradient_correction`].
+    /// the [`PressureSystem::gradient_correction`]; 0 (the particle takes no pressure) where it
+    /// is below 10⁻³ of a filled lattice's c m_i² Σ_k |∇W(x_k)|², see [`DIAGONAL_FLOOR`].
     ///
     /// A pressure change δp_i at particle i alone changes the predicted density of i by
     /// −Δt² d_i δp_i / ρ_i² (derived in `docs/incompressible.md`): d_i is the diagonal of the
@@ -453,6 +476,17 @@ pub fn lattice_gradient_factor<const D: usize, K: Kernel<D>>(kernel: &K, spacing
         sum += x.dot(&kernel.gradient(&-x));
     });
     volume * sum / D as Real
+}
+
+/// Σ_k |∇W(x_k)|² over a filled lattice of spacing dx: m² times it is the diagonal d of a
+/// particle of mass m inside the lattice (its G·S vanishes there), the scale of
+/// [`DIAGONAL_FLOOR`].
+pub fn lattice_gradient_squares<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
+    let mut squares = 0.0;
+    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
+        squares += kernel.gradient(&x).norm_squared();
+    });
+    squares
 }
 
 /// The largest eigenvalue λ_max of D⁻¹A for the pressure system A of a filled lattice of
