@@ -1,11 +1,11 @@
 //! Predictive–corrective incompressible SPH (Solenthaler & Pajarola 2009).
 
-use geosph_core::{Particles, Real, Vector};
+use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use rayon::prelude::*;
 
 use super::iisph::relaxed_jacobi;
-use super::system::for_each_lattice_offset;
+use super::system::lattice_gradient_squares;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
 use crate::viscosity::Viscosity;
 
@@ -35,17 +35,11 @@ pub struct Pcisph {
 
 impl Pcisph {
     /// The prototype of a particle of mass `mass` inside a square (cubic) lattice of spacing
-    /// `spacing`, filled over the kernel support.
+    /// `spacing`, filled over the kernel support, where Σ_j ∇W_ij vanishes by symmetry:
+    /// m² Σ_j |∇W_ij|² ([`lattice_gradient_squares`]).
     pub fn new<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real, mass: Real) -> Self {
-        let mut sum = Vector::<D>::zeros();
-        let mut squares = 0.0;
-        for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |r| {
-            let gradient = kernel.gradient(&r);
-            sum += gradient;
-            squares += gradient.norm_squared();
-        });
         Self {
-            prototype_diagonal: mass * mass * (sum.norm_squared() + squares),
+            prototype_diagonal: mass * mass * lattice_gradient_squares(kernel, spacing),
         }
     }
 }
@@ -89,6 +83,7 @@ impl<const D: usize> PressureMethod<D> for Pcisph {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use geosph_core::Vector;
     use geosph_kernels::WendlandC2;
 
     #[test]
