@@ -506,12 +506,10 @@ pub fn lattice_gradient_squares<const D: usize, K: Kernel<D>>(kernel: &K, spacin
 /// diverges (see the unit test).
 pub fn lattice_jacobi_bound<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
     let mut offsets = Vec::new();
-    let mut squares = 0.0;
     for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
-        let gradient = kernel.gradient(&-x);
-        squares += gradient.norm_squared();
-        offsets.push((x, gradient));
+        offsets.push((x, kernel.gradient(&-x)));
     });
+    let squares = lattice_gradient_squares(kernel, spacing);
     let points = if D <= 2 { 25 } else { 13 };
     let step = std::f64::consts::PI / (spacing * (points - 1) as Real);
     let mut largest: Real = 0.0;
