@@ -4,7 +4,7 @@ use geosph_core::{Particles, Permutation, Real};
 use geosph_kernels::Kernel;
 use rayon::prelude::*;
 
-use super::iisph::set_pressure_term;
+use super::system::MIN_LEN;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
 use crate::state::{StateArrays, StateError};
 use crate::viscosity::Viscosity;
@@ -97,73 +97,91 @@ impl Dfsph {
             Residual::Divergence => div.max(0.0),
         };
         let diagonal = system.diagonal();
+        let walls_velocity = &system.walls.velocity;
         let Particles {
             velocity,
             mass,
             density,
             ..
         } = fluid;
+        let (mass, density) = (&*mass, &*density);
         let Scratch {
-            acceleration,
             pressure_term,
-            divergence,
             residual,
+            ..
         } = scratch;
-        let mut apply = |pressure: &[Real], velocity: &mut Vec<_>| {
-            set_pressure_term(pressure, density, pressure_term);
-            system.pressure_acceleration(mass, pressure_term, acceleration);
+        // v ← v + Δt a^p(p) from `pressure_term` = p/ρ², and each particle's `summed` pressure
+        // raised by its `increment`, in one pass (a^p_i reads no velocity).
+        let apply = |pressure_term: &[Real],
+                     increment: Option<&[Real]>,
+                     velocity: &mut [_],
+                     summed: &mut [Real]| {
             velocity
                 .par_iter_mut()
-                .zip(acceleration.par_iter())
-                .for_each(|(v, a)| *v += a * dt);
+                .zip(summed.par_iter_mut())
+                .enumerate()
+                .with_min_len(MIN_LEN)
+                .for_each(|(i, (v, p))| {
+                    *v += system.pressure_acceleration_at(i, mass, pressure_term) * dt;
+                    if let Some(increment) = increment {
+                        *p += increment[i];
+                    }
+                });
         };
         // Warm start where the particle is compressed (its rate) before any pressure acts and
         // can take pressure (a non-zero diagonal).
-        system.divergence(mass, velocity, &system.walls.velocity, divergence);
-        summed
-            .par_iter_mut()
-            .zip(divergence.par_iter())
-            .zip(density.par_iter())
-            .zip(diagonal.par_iter())
-            .for_each(|(((p, div), rho_i), d_i)| {
-                *p = if *d_i > 0.0 && residual_of(*rho_i, *div) > 0.0 {
-                    *p * WARM_START
-                } else {
-                    0.0
-                };
-            });
-        apply(summed, velocity);
+        {
+            let velocity = &*velocity;
+            summed
+                .par_iter_mut()
+                .zip(pressure_term.par_iter_mut())
+                .enumerate()
+                .with_min_len(MIN_LEN)
+                .for_each(|(i, (p, term))| {
+                    let div = system.divergence_at(i, mass, velocity, walls_velocity);
+                    let rho_i = density[i];
+                    *p = if diagonal[i] > 0.0 && residual_of(rho_i, div) > 0.0 {
+                        *p * WARM_START
+                    } else {
+                        0.0
+                    };
+                    *term = *p / (rho_i * rho_i);
+                });
+        }
+        apply(pressure_term, None, velocity, summed);
         let (scale, error_scale) = match kind {
             Residual::Density => (1.0 / (dt * dt), 1.0 / rho0),
             Residual::Divergence => (1.0 / dt, dt / rho0),
         };
         let mut report = SolveReport::default();
         while report.iterations < settings.max_iterations {
-            system.divergence(mass, velocity, &system.walls.velocity, divergence);
-            residual
-                .par_iter_mut()
-                .zip(increment.par_iter_mut())
-                .zip(divergence.par_iter())
-                .enumerate()
-                .for_each(|(i, ((r, dp), div))| {
-                    let rho_i = density[i];
-                    *r = residual_of(rho_i, *div);
-                    *dp = if diagonal[i] > 0.0 {
-                        *r * scale * rho_i * rho_i / diagonal[i]
-                    } else {
-                        0.0
-                    };
-                });
+            // The residual, the increment it asks for and the increment's p/ρ², in one pass.
+            {
+                let velocity = &*velocity;
+                residual
+                    .par_iter_mut()
+                    .zip(increment.par_iter_mut())
+                    .zip(pressure_term.par_iter_mut())
+                    .enumerate()
+                    .with_min_len(MIN_LEN)
+                    .for_each(|(i, ((r, dp), term))| {
+                        let div = system.divergence_at(i, mass, velocity, walls_velocity);
+                        let rho_i = density[i];
+                        *r = residual_of(rho_i, div);
+                        *dp = if diagonal[i] > 0.0 {
+                            *r * scale * rho_i * rho_i / diagonal[i]
+                        } else {
+                            0.0
+                        };
+                        *term = *dp / (rho_i * rho_i);
+                    });
+            }
             report.error = super::mean_positive(residual) * error_scale;
             if report.iterations >= settings.min_iterations && report.error <= target {
                 break;
             }
             report.iterations += 1;
-            summed
-                .par_iter_mut()
-                .zip(increment.par_iter())
-                .for_each(|(p, dp)| *p += dp);
-            apply(increment, velocity);
+            apply(pressure_term, Some(increment), velocity, summed);
         }
         report
     }

@@ -5,6 +5,7 @@ use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use rayon::prelude::*;
 
+use super::system::MIN_LEN;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
 use crate::viscosity::Viscosity;
 
@@ -102,29 +103,42 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
         residual,
     } = scratch;
 
-    // The density predicted from v* alone, minus ρ₀: residual_i = ρ*_i − ρ₀.
-    system.divergence(mass, velocity, &system.walls.velocity, divergence);
-    residual
-        .par_iter_mut()
-        .zip(density.par_iter())
-        .zip(divergence.par_iter())
-        .for_each(|((r, rho), div)| *r = rho + dt * div - rho0);
+    let walls = &system.walls;
+    let (mass, density) = (&*mass, &*density);
+    // The density predicted from v* alone, minus ρ₀: residual_i = ρ*_i − ρ₀; and p/ρ² of the
+    // starting pressure.
+    {
+        let velocity = &*velocity;
+        residual
+            .par_iter_mut()
+            .zip(pressure_term.par_iter_mut())
+            .enumerate()
+            .with_min_len(MIN_LEN)
+            .for_each(|(i, (r, term))| {
+                let rho_i = density[i];
+                *r = rho_i + dt * system.divergence_at(i, mass, velocity, &walls.velocity) - rho0;
+                *term = pressure[i] / (rho_i * rho_i);
+            });
+    }
 
     let mut report = SolveReport::default();
     while report.iterations < settings.max_iterations {
-        set_pressure_term(pressure, density, pressure_term);
         system.pressure_acceleration(mass, pressure_term, acceleration);
-        system.divergence(mass, acceleration, &system.walls.acceleration, divergence);
+        // The density the pressures predict, the Jacobi update and its p/ρ², in one pass.
+        let acceleration = &*acceleration;
         pressure
             .par_iter_mut()
             .zip(divergence.par_iter_mut())
-            .zip(residual.par_iter())
+            .zip(pressure_term.par_iter_mut())
             .enumerate()
-            .for_each(|(i, ((p, div), r))| {
-                // ρ̃_i − ρ₀ with the current pressures; kept in `div` for the error sum.
-                let predicted = r + dt * dt * *div;
-                *p = (*p + step(i, density[i]) * predicted).max(0.0);
-                *div = predicted;
+            .with_min_len(MIN_LEN)
+            .for_each(|(i, ((p, predicted), term))| {
+                let rho_i = density[i];
+                // ρ̃_i − ρ₀ with the current pressures; kept for the error sum.
+                *predicted = residual[i]
+                    + dt * dt * system.divergence_at(i, mass, acceleration, &walls.acceleration);
+                *p = (*p + step(i, rho_i) * *predicted).max(0.0);
+                *term = *p / (rho_i * rho_i);
             });
         report.iterations += 1;
         report.error = super::mean_positive(divergence) / rho0;
@@ -134,19 +148,11 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
             break;
         }
     }
-    set_pressure_term(pressure, density, pressure_term);
-    system.pressure_acceleration(mass, pressure_term, acceleration);
+    let pressure_term = &*pressure_term;
     velocity
         .par_iter_mut()
-        .zip(acceleration.par_iter())
-        .for_each(|(v, a)| *v += a * dt);
+        .enumerate()
+        .with_min_len(MIN_LEN)
+        .for_each(|(i, v)| *v += system.pressure_acceleration_at(i, mass, pressure_term) * dt);
     report
-}
-
-/// p/ρ² of every particle.
-pub(crate) fn set_pressure_term(pressure: &[Real], density: &[Real], term: &mut [Real]) {
-    term.par_iter_mut()
-        .zip(pressure.par_iter())
-        .zip(density.par_iter())
-        .for_each(|((t, p), rho)| *t = p / (rho * rho));
 }

@@ -242,16 +242,14 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> FluidS
     ) -> Result<StepReport, SolverError> {
         let n = fluid.len();
         self.scratch.resize(n);
-        self.previous_velocity.clone_from(&fluid.velocity);
         let dt = event_step(self.stable_step(fluid), max_dt);
 
+        // v* into the spare buffer, which then swaps with v: the old velocity stays behind
+        // for the acceleration bound below.
+        self.previous_velocity.resize(n, Vector::zeros());
         self.system
-            .non_pressure_acceleration(fluid, &mut self.scratch.acceleration);
-        fluid
-            .velocity
-            .par_iter_mut()
-            .zip(self.scratch.acceleration.par_iter())
-            .for_each(|(v, a)| *v += a * dt);
+            .predict_velocity(fluid, dt, &mut self.previous_velocity);
+        std::mem::swap(&mut fluid.velocity, &mut self.previous_velocity);
         let density_solve =
             self.method
                 .correct_density(&self.system, fluid, dt, &self.settings, &mut self.scratch);

@@ -257,13 +257,27 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     /// h_b = max((g − a_b)·(x_b − x_i), −p_i/ρ_i) with p_i the pressure in `fluid` (the last
     /// step's).
     pub fn non_pressure_acceleration(&self, fluid: &Particles<D>, acceleration: &mut [Vector<D>]) {
+        acceleration
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, a_i)| *a_i = self.non_pressure_acceleration_at(i, fluid));
+    }
+
+    /// The predicted velocity v*_i = v_i + Δt a*_i of every particle into `predicted`, with
+    /// a* the [known acceleration](Self::non_pressure_acceleration).
+    pub fn predict_velocity(&self, fluid: &Particles<D>, dt: Real, predicted: &mut [Vector<D>]) {
+        predicted.par_iter_mut().enumerate().for_each(|(i, v)| {
+            *v = fluid.velocity[i] + self.non_pressure_acceleration_at(i, fluid) * dt
+        });
+    }
+
+    /// [`Self::non_pressure_acceleration`] of particle `i`.
+    #[inline]
+    fn non_pressure_acceleration_at(&self, i: usize, fluid: &Particles<D>) -> Vector<D> {
         let (kernel, domain, viscosity, gravity) =
             (self.kernel, &self.domain, self.viscosity, self.gravity);
-        let (fluid_fluid, fluid_wall, walls) = (&self.fluid_fluid, &self.fluid_wall, &self.walls);
-        let (fluid_gradient, wall_gradient) = (&self.fluid_gradient, &self.wall_gradient);
+        let walls = &self.walls;
         let rho0 = self.rest_density;
-        let head = self.wall_pressure == WallPressure::Hydrostatic;
-        let correction = self.gradient_correction;
         let eta2 = 0.01 * kernel.smoothing_length().powi(2);
         let Particles {
             position,
@@ -274,63 +288,58 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             ..
         } = fluid;
         let previous_pressure = pressure.as_deref().expect("pressure is enabled");
-        acceleration
-            .par_iter_mut()
-            .enumerate()
-            .for_each(|(i, a_i)| {
-                let (x_i, v_i, rho_i) = (position[i], velocity[i], density[i]);
-                let mut sum = gravity;
-                let (start, end) = range(fluid_fluid, i);
-                for (&j, &grad) in fluid_fluid.indices[start..end]
-                    .iter()
-                    .zip(&fluid_gradient[start..end])
-                {
-                    let j = j as usize;
-                    if j == i {
-                        continue;
-                    }
-                    let r_ij = domain.displacement(&x_i, &position[j]);
-                    let r2 = r_ij.norm_squared();
-                    sum += viscosity.acceleration(&Pair {
-                        r_ij,
-                        r2,
-                        inv_r2_eta2: 1.0 / (r2 + eta2),
-                        grad,
-                        v_ij: v_i - velocity[j],
-                        rho_i,
-                        rho_j: density[j],
-                        mass_j: mass[j],
-                    });
-                }
-                let (start, end) = range(fluid_wall, i);
-                for (&b, &grad) in fluid_wall.indices[start..end]
-                    .iter()
-                    .zip(&wall_gradient[start..end])
-                {
-                    let b = b as usize;
-                    let r_ib = domain.displacement(&x_i, &walls.position[b]);
-                    let r2 = r_ib.norm_squared();
-                    let mass_b = rho0 * walls.volume[b];
-                    sum += viscosity.acceleration(&Pair {
-                        r_ij: r_ib,
-                        r2,
-                        inv_r2_eta2: 1.0 / (r2 + eta2),
-                        grad,
-                        v_ij: v_i - walls.velocity[b],
-                        rho_i,
-                        rho_j: rho_i,
-                        mass_j: mass_b,
-                    });
-                    if head {
-                        // h_b = (g − a_b)·(x_b − x_i) with x_b − x_i = −r_ib, limited so
-                        // that p_b = p_i + ρ_i h_b stays ≥ 0 for the last step's p_i.
-                        let h_b = (-(gravity - walls.acceleration[b]).dot(&r_ib))
-                            .max(-previous_pressure[i] / rho_i);
-                        sum -= grad * (correction * mass_b * h_b / rho_i);
-                    }
-                }
-                *a_i = sum;
+        let (x_i, v_i, rho_i) = (position[i], velocity[i], density[i]);
+        let mut sum = gravity;
+        let (start, end) = range(&self.fluid_fluid, i);
+        for (&j, &grad) in self.fluid_fluid.indices[start..end]
+            .iter()
+            .zip(&self.fluid_gradient[start..end])
+        {
+            let j = j as usize;
+            if j == i {
+                continue;
+            }
+            let r_ij = domain.displacement(&x_i, &position[j]);
+            let r2 = r_ij.norm_squared();
+            sum += viscosity.acceleration(&Pair {
+                r_ij,
+                r2,
+                inv_r2_eta2: 1.0 / (r2 + eta2),
+                grad,
+                v_ij: v_i - velocity[j],
+                rho_i,
+                rho_j: density[j],
+                mass_j: mass[j],
             });
+        }
+        let (start, end) = range(&self.fluid_wall, i);
+        for (&b, &grad) in self.fluid_wall.indices[start..end]
+            .iter()
+            .zip(&self.wall_gradient[start..end])
+        {
+            let b = b as usize;
+            let r_ib = domain.displacement(&x_i, &walls.position[b]);
+            let r2 = r_ib.norm_squared();
+            let mass_b = rho0 * walls.volume[b];
+            sum += viscosity.acceleration(&Pair {
+                r_ij: r_ib,
+                r2,
+                inv_r2_eta2: 1.0 / (r2 + eta2),
+                grad,
+                v_ij: v_i - walls.velocity[b],
+                rho_i,
+                rho_j: rho_i,
+                mass_j: mass_b,
+            });
+            if self.wall_pressure == WallPressure::Hydrostatic {
+                // h_b = (g − a_b)·(x_b − x_i) with x_b − x_i = −r_ib, limited so
+                // that p_b = p_i + ρ_i h_b stays ≥ 0 for the last step's p_i.
+                let h_b = (-(gravity - walls.acceleration[b]).dot(&r_ib))
+                    .max(-previous_pressure[i] / rho_i);
+                sum -= grad * (self.gradient_correction * mass_b * h_b / rho_i);
+            }
+        }
+        sum
     }
 
     /// The pressure acceleration
@@ -343,26 +352,33 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         pressure_term: &[Real],
         acceleration: &mut [Vector<D>],
     ) {
-        let (fluid_fluid, fluid_gradient) = (&self.fluid_fluid, &self.fluid_gradient);
-        let wall_sum = &self.wall_gradient_sum;
-        let correction = self.gradient_correction;
         acceleration
             .par_iter_mut()
             .enumerate()
-            .with_min_len(256)
-            .for_each(|(i, a_i)| {
-                let term_i = pressure_term[i];
-                let (start, end) = range(fluid_fluid, i);
-                let mut sum = wall_sum[i] * (2.0 * term_i);
-                for (&j, gradient) in fluid_fluid.indices[start..end]
-                    .iter()
-                    .zip(&fluid_gradient[start..end])
-                {
-                    let j = j as usize;
-                    sum += gradient * (mass[j] * (term_i + pressure_term[j]));
-                }
-                *a_i = sum * -correction;
-            });
+            .with_min_len(MIN_LEN)
+            .for_each(|(i, a_i)| *a_i = self.pressure_acceleration_at(i, mass, pressure_term));
+    }
+
+    /// [`Self::pressure_acceleration`] of particle `i`, for solvers that fuse it with their
+    /// own per-particle update in one pass.
+    #[inline]
+    pub fn pressure_acceleration_at(
+        &self,
+        i: usize,
+        mass: &[Real],
+        pressure_term: &[Real],
+    ) -> Vector<D> {
+        let term_i = pressure_term[i];
+        let (start, end) = range(&self.fluid_fluid, i);
+        let mut sum = self.wall_gradient_sum[i] * (2.0 * term_i);
+        for (&j, gradient) in self.fluid_fluid.indices[start..end]
+            .iter()
+            .zip(&self.fluid_gradient[start..end])
+        {
+            let j = j as usize;
+            sum += gradient * (mass[j] * (term_i + pressure_term[j]));
+        }
+        sum * -self.gradient_correction
     }
 
     /// The SPH divergence Σ_j m_j (u_i − u_j)·∇_i W_ij + Σ_b m_b (u_i − u_b)·∇_i W_ib of a
@@ -375,39 +391,48 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         wall: &[Vector<D>],
         divergence: &mut [Real],
     ) {
-        let rho0 = self.rest_density;
-        let (fluid_fluid, fluid_wall) = (&self.fluid_fluid, &self.fluid_wall);
-        let (fluid_gradient, wall_gradient) = (&self.fluid_gradient, &self.wall_gradient);
-        let volume = &self.walls.volume;
         divergence
             .par_iter_mut()
             .enumerate()
-            .with_min_len(256)
-            .for_each(|(i, div_i)| {
-                let u_i = field[i];
-                let (start, end) = range(fluid_fluid, i);
-                let mut sum = 0.0;
-                for (&j, gradient) in fluid_fluid.indices[start..end]
-                    .iter()
-                    .zip(&fluid_gradient[start..end])
-                {
-                    let j = j as usize;
-                    sum += mass[j] * (u_i - field[j]).dot(gradient);
-                }
-                let (start, end) = range(fluid_wall, i);
-                for (&b, gradient) in fluid_wall.indices[start..end]
-                    .iter()
-                    .zip(&wall_gradient[start..end])
-                {
-                    let b = b as usize;
-                    sum += rho0 * volume[b] * (u_i - wall[b]).dot(gradient);
-                }
-                *div_i = sum;
-            });
+            .with_min_len(MIN_LEN)
+            .for_each(|(i, div_i)| *div_i = self.divergence_at(i, mass, field, wall));
+    }
+
+    /// [`Self::divergence`] of particle `i`, for solvers that fuse it with their own
+    /// per-particle update in one pass.
+    #[inline]
+    pub fn divergence_at(
+        &self,
+        i: usize,
+        mass: &[Real],
+        field: &[Vector<D>],
+        wall: &[Vector<D>],
+    ) -> Real {
+        let u_i = field[i];
+        let (start, end) = range(&self.fluid_fluid, i);
+        let mut sum = 0.0;
+        for (&j, gradient) in self.fluid_fluid.indices[start..end]
+            .iter()
+            .zip(&self.fluid_gradient[start..end])
+        {
+            let j = j as usize;
+            sum += mass[j] * (u_i - field[j]).dot(gradient);
+        }
+        let (start, end) = range(&self.fluid_wall, i);
+        for (&b, gradient) in self.fluid_wall.indices[start..end]
+            .iter()
+            .zip(&self.wall_gradient[start..end])
+        {
+            let b = b as usize;
+            sum += self.rest_density * self.walls.volume[b] * (u_i - wall[b]).dot(gradient);
+        }
+        sum
     }
 }
 
-/// `list.offsets[i]..list.offsets[i + 1]` as `usize`.
+/// Fewest particles per rayon task in the per-particle passes of the solves.
+pub(crate) const MIN_LEN: usize = 256;
+
 #[inline(always)]
 fn range(list: &NeighbourList, i: usize) -> (usize, usize) {
     (list.offsets[i] as usize, list.offsets[i + 1] as usize)
