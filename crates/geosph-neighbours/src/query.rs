@@ -261,14 +261,18 @@ impl<const D: usize> CellGrid<D> {
         if buffers.len() < wave_chunks {
             buffers.resize_with(wave_chunks, Vec::new);
         }
+        // Equal chunks of at most QUERY_CHUNK queries, a whole number of them per wave: a last
+        // wave of one short chunk would run on one thread while the others wait.
+        let waves = n.div_ceil(wave_chunks * QUERY_CHUNK).max(1);
+        let chunk = n.div_ceil(waves * wave_chunks).max(1);
         let mut total = 0u64;
-        for wave_start in (0..n).step_by(wave_chunks * QUERY_CHUNK) {
-            let wave_end = n.min(wave_start + wave_chunks * QUERY_CHUNK);
+        for wave_start in (0..n).step_by(wave_chunks * chunk) {
+            let wave_end = n.min(wave_start + wave_chunks * chunk);
             let wave_queries = &queries[wave_start..wave_end];
             let counts = &mut list.offsets[wave_start + 1..wave_end + 1];
             counts
-                .par_chunks_mut(QUERY_CHUNK)
-                .zip(wave_queries.par_chunks(QUERY_CHUNK))
+                .par_chunks_mut(chunk)
+                .zip(wave_queries.par_chunks(chunk))
                 .zip(buffers.par_iter_mut())
                 .for_each(|((counts, queries), buffer)| {
                     buffer.clear();
@@ -279,7 +283,7 @@ impl<const D: usize> CellGrid<D> {
                         *count = (buffer.len() - start) as u32;
                     }
                 });
-            let used = wave_queries.len().div_ceil(QUERY_CHUNK);
+            let used = wave_queries.len().div_ceil(chunk);
             for buffer in &buffers[..used] {
                 list.indices.extend_from_slice(buffer);
             }
