@@ -1,13 +1,23 @@
 #!/usr/bin/env bash
 # Accuracy against run time of the four fluid solvers on the default dam break
 # (docs/performance.md, "Incompressible solvers"). Run on an idle machine:
-#   [END_TIME=s] bash benches/scripts/dam-break-solvers.sh [dx ...]   (default: 0.02 0.015)
+#   [END_TIME=s] [KERNEL="name h/dx wall-layers"] bash benches/scripts/dam-break-solvers.sh [dx ...]
+#   (default dx: 0.02 0.015)
 # END_TIME (default: the scene's 2 s) shortens the runs; 1.35 s covers every front and all
-# but the last height point of Martin & Moyce. Prints one Markdown table row per run.
+# but the last height point of Martin & Moyce. KERNEL replaces the scene's kernel, smoothing
+# ratio and wall layers, e.g. KERNEL="cubic-spline 1.0 2" for SPlisHSPlasH's kernel and
+# support (2 dx). Prints one Markdown table row per run.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 cargo build --release -q -p dam-break
 out=$(mktemp -d)
+scene=data/scenes/dam-break-2d.ron
+if [ -n "${KERNEL:-}" ]; then
+    read -r kernel ratio layers <<<"$KERNEL"
+    sed -e "s/kernel: \"wendland-c2\"/kernel: \"$kernel\"/" -e "s/smoothing_ratio: 1.3/smoothing_ratio: $ratio/" \
+        -e "s/layers: 3/layers: $layers/" "$scene" > "$out/scene.ron"
+    scene=$out/scene.ron
+fi
 resolutions=("$@")
 [ ${#resolutions[@]} -eq 0 ] && resolutions=(0.02 0.015)
 echo "| dx (m) | solver | target | steps | wall s per simulated s | mean iterations | mean compression % | max compression % | ΔZ at T = 2 | ΔZ at T = 3 | front RMS ΔZ | height RMS ΔH |"
@@ -15,7 +25,7 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for dx in "${resolutions[@]}"; do
     for run in "wcsph -" "pcisph 0.01" "pcisph 0.001" "iisph 0.01" "iisph 0.001" "dfsph 0.01" "dfsph 0.001"; do
         read -r solver target <<<"$run"
-        args=(--solver "$solver" --dx "$dx" --no-vtk --quiet --out "$out/$solver-$target-$dx")
+        args=(--scene "$scene" --solver "$solver" --dx "$dx" --no-vtk --quiet --out "$out/$solver-$target-$dx")
         [ "$target" != "-" ] && args+=(--target-error "$target")
         [ -n "${END_TIME:-}" ] && args+=(--end-time "$END_TIME")
         log=$(./target/release/dam-break "${args[@]}" 2>&1) || { echo "| $dx | $solver | $target | failed: $(echo "$log" | tail -1) |"; continue; }
