@@ -137,6 +137,9 @@ impl Default for WcsphConfig {
 pub struct IncompressibleConfig {
     /// Target average relative compression (default 0.001 = 0.1 %).
     pub target_density_error: Real,
+    /// Bound on any one particle's predicted compression (default 0.1 = 10 %): the solve
+    /// iterates past the mean target while a particle that takes pressure exceeds it.
+    pub max_compression: Real,
     /// Least pressure iterations per step (default 2; PCISPH always does at least 3).
     pub min_iterations: usize,
     /// Most pressure iterations per step (default 100).
@@ -166,6 +169,7 @@ impl Default for IncompressibleConfig {
         let settings = PressureSolveSettings::default();
         Self {
             target_density_error: settings.target_density_error,
+            max_compression: settings.max_compression,
             min_iterations: settings.min_iterations,
             max_iterations: settings.max_iterations,
             cfl: settings.cfl,
@@ -439,6 +443,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
         )?;
         let settings = PressureSolveSettings {
             target_density_error: config.target_density_error,
+            max_compression: config.max_compression,
             min_iterations: config.min_iterations,
             max_iterations: config.max_iterations,
             cfl: config.cfl,

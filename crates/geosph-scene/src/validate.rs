@@ -448,6 +448,12 @@ fn validate_incompressible(config: &IncompressibleConfig) -> Result<(), SceneErr
         0.1,
     )?;
     in_range(
+        "solver.max_compression",
+        config.max_compression,
+        config.target_density_error,
+        1.0,
+    )?;
+    in_range(
         "solver.target_divergence_error",
         config.target_divergence_error,
         1e-6,

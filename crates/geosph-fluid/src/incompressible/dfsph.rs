@@ -149,9 +149,11 @@ impl Dfsph {
                 });
         }
         apply(pressure_term, None, velocity, summed);
-        let (scale, error_scale) = match kind {
-            Residual::Density => (1.0 / (dt * dt), 1.0 / rho0),
-            Residual::Divergence => (1.0 / dt, dt / rho0),
+        // The increment's scale, the error's, and the bound on any one residual (only the
+        // density solve bounds a particle's compression).
+        let (scale, error_scale, max_residual) = match kind {
+            Residual::Density => (1.0 / (dt * dt), 1.0 / rho0, settings.max_compression * rho0),
+            Residual::Divergence => (1.0 / dt, dt / rho0, Real::INFINITY),
         };
         let mut report = SolveReport::default();
         while report.iterations < settings.max_iterations {
@@ -176,8 +178,12 @@ impl Dfsph {
                         *term = *dp / (rho_i * rho_i);
                     });
             }
-            report.error = super::mean_positive(residual) * error_scale;
-            if report.iterations >= settings.min_iterations && report.error <= target {
+            let (mean, max) = super::mean_and_max_positive(residual, diagonal);
+            report.error = mean * error_scale;
+            if report.iterations >= settings.min_iterations
+                && report.error <= target
+                && max <= max_residual
+            {
                 break;
             }
             report.iterations += 1;

@@ -141,9 +141,11 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
                 *term = *p / (rho_i * rho_i);
             });
         report.iterations += 1;
-        report.error = super::mean_positive(divergence) / rho0;
+        let (mean, max) = super::mean_and_max_positive(divergence, system.diagonal());
+        report.error = mean / rho0;
         if report.iterations >= settings.min_iterations
             && report.error <= settings.target_density_error
+            && max <= settings.max_compression * rho0
         {
             break;
         }

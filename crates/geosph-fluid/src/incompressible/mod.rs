@@ -45,6 +45,10 @@ use crate::viscosity::Viscosity;
 pub struct PressureSolveSettings {
     /// Target average relative compression, mean of max(ρ/ρ₀ − 1, 0) (default 0.001 = 0.1 %).
     pub target_density_error: Real,
+    /// Bound on the largest predicted compression (ρ̃_i − ρ₀)/ρ₀ of a particle that takes
+    /// pressure (default 0.1 = 10 %): the solve goes on past the mean target while a particle
+    /// exceeds it. The mean alone lets a few particles be compressed far beyond it.
+    pub max_compression: Real,
     /// Least iterations per step (default 2).
     pub min_iterations: usize,
     /// Most iterations per step (default 100); a step that reaches it is reported, not failed.
@@ -60,6 +64,7 @@ impl Default for PressureSolveSettings {
     fn default() -> Self {
         Self {
             target_density_error: 1e-3,
+            max_compression: 0.1,
             min_iterations: 2,
             max_iterations: 100,
             cfl: 0.4,
@@ -360,7 +365,16 @@ pub fn compression(density: &[Real], rest_density: Real) -> (Real, Real) {
     (sum / density.len().max(1) as Real, max)
 }
 
-/// Mean of the positive entries of `values`, summed in index order.
-pub(crate) fn mean_positive(values: &[Real]) -> Real {
-    values.iter().map(|&e| e.max(0.0)).sum::<Real>() / values.len().max(1) as Real
+/// Mean of the positive entries of `values`, summed in index order, and the largest entry
+/// of a particle with a non-zero `diagonal` (one that can take pressure; 0 if none).
+pub(crate) fn mean_and_max_positive(values: &[Real], diagonal: &[Real]) -> (Real, Real) {
+    let (sum, max) =
+        values
+            .iter()
+            .zip(diagonal)
+            .fold((0.0, 0.0), |(sum, max): (Real, Real), (&value, &d)| {
+                let max = if d > 0.0 { max.max(value) } else { max };
+                (sum + value.max(0.0), max)
+            });
+    (sum / values.len().max(1) as Real, max)
 }
