@@ -78,7 +78,8 @@ impl<const D: usize> PressureMethod<D> for Iisph {
 ///
 /// Each iteration is two gather passes over the pairs: a^p from p, then the density change
 /// Δt² Σ_j m_j (a^p_i − a^p_j)·∇_i W_ij (+ walls) that a^p causes. The error is the mean of
-/// max(ρ̃_i/ρ₀ − 1, 0); iterations stop when it is at most the target after the minimum count.
+/// max(ρ̃_i/ρ₀ − 1, 0); iterations stop when it is at most the target after the minimum count
+/// and no particle that takes pressure is predicted beyond `max_compression`.
 pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
     system: &PressureSystem<D, K, V>,
     fluid: &mut Particles<D>,
