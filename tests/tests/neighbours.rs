@@ -2,7 +2,8 @@
 //!
 //! The definition being checked: `j` is a neighbour of query point `x_q` when
 //! `d = domain.displacement(x_q, x_j)` (minimum image on periodic axes) has `d·d ≤ radius²`,
-//! inclusive, and each list is sorted by ascending `j`. Pairs exactly at the radius are built
+//! inclusive; each list is in cell order (ascending index within a cell), and is compared with
+//! the brute force after sorting. Pairs exactly at the radius are built
 //! from exactly representable lattice spacings (radius/2, and the 3-4-5 triangle).
 
 use geosph_core::{Domain, NeighbourList, Particles, Real, Vector};
@@ -28,6 +29,7 @@ fn brute_force<const D: usize>(
     list
 }
 
+/// The grid's list, checked to be in cell order, with each run then sorted by index.
 fn search<const D: usize>(
     domain: &Domain<D>,
     radius: Real,
@@ -38,6 +40,33 @@ fn search<const D: usize>(
     grid.build(position).unwrap();
     let mut list = NeighbourList::new();
     grid.neighbour_list(position, queries, &mut list);
+    assert_cell_order(&grid, &list);
+    sorted(list)
+}
+
+/// Each run lists a cell's particles together, in ascending index, and (without a periodic
+/// wrap) the cells in ascending linear index.
+fn assert_cell_order<const D: usize>(grid: &CellGrid<D>, list: &NeighbourList) {
+    let cell = |j: u32| grid.cell_of()[j as usize];
+    let periodic = grid.domain().periodic.iter().any(|&p| p);
+    for i in 0..list.len() {
+        for pair in list.neighbours(i).windows(2) {
+            let (a, b) = (cell(pair[0]), cell(pair[1]));
+            assert!(
+                a != b || pair[0] < pair[1],
+                "query {i}: {pair:?} in one cell"
+            );
+            assert!(periodic || a <= b, "query {i}: cells {a} then {b}");
+        }
+    }
+}
+
+/// `list` with each run sorted by ascending index.
+fn sorted(mut list: NeighbourList) -> NeighbourList {
+    for i in 0..list.len() {
+        let range = list.offsets[i] as usize..list.offsets[i + 1] as usize;
+        list.indices[range].sort_unstable();
+    }
     list
 }
 
@@ -261,8 +290,7 @@ fn for_each_neighbour_gives_the_list_with_displacement_and_distance() {
             assert!(r <= radius);
             seen.push(j);
         });
-        seen.sort_unstable();
-        assert_eq!(seen, list.neighbours(i));
+        assert_eq!(seen, list.neighbours(i), "same order as the list");
     }
 }
 
@@ -368,7 +396,8 @@ fn grid_geometry_and_buffer_reuse() {
     assert_eq!(grid.particle_index().as_ptr(), cell_ptr);
     assert_eq!(list.offsets.as_ptr(), offsets_ptr);
     assert_eq!(list.indices.as_ptr(), indices_ptr);
-    assert_eq!(list, brute_force(&domain, 0.1, &b, &b));
+    assert_cell_order(&grid, &list);
+    assert_eq!(sorted(list), brute_force(&domain, 0.1, &b, &b));
     // Cells hold their particles in ascending order.
     for c in 0..grid.cell_count() {
         let run = grid.cell_particles(c);
@@ -471,7 +500,9 @@ fn z_order_reordering_keeps_fields_and_neighbourhoods_consistent() {
             .map(|&j| order[j as usize])
             .collect();
         mapped.sort_unstable();
-        assert_eq!(mapped, before.neighbours(order[k] as usize));
+        let mut expected = before.neighbours(order[k] as usize).to_vec();
+        expected.sort_unstable();
+        assert_eq!(mapped, expected);
     }
     // Memory order now follows the Z curve of cells (ties keep the old order)...
     let code = |x: &Vector<2>| {

@@ -2,9 +2,10 @@
 
 /// Neighbours of each query particle in compressed-sparse-row form.
 ///
-/// The neighbours of query particle `i` are `indices[offsets[i]..offsets[i + 1]]`, sorted in
-/// ascending index order, so any sum over them is evaluated in a fixed order whatever the number
-/// of threads. When the query set is the searched set itself, every particle lists itself.
+/// The neighbours of query particle `i` are `indices[offsets[i]..offsets[i + 1]]`, in an order
+/// fixed by the positions alone (the cell order of `geosph-neighbours`, not ascending index),
+/// so any sum over them is evaluated in the same order whatever the number of threads. When
+/// the query set is the searched set itself, every particle lists itself.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct NeighbourList {
     /// `offsets[i]..offsets[i + 1]` is the range of particle `i` in `indices`; `len() + 1` entries.

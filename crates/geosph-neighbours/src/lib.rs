@@ -2,8 +2,8 @@
 //!
 //! A [`CellGrid`] sorts a particle set into cells at least one search radius wide (counting
 //! sort, in parallel with rayon) and answers queries by scanning the 3^D cells around a point:
-//! CSR [`NeighbourList`](geosph_core::NeighbourList)s sorted by index and bitwise identical for
-//! any number of threads, or closure-style access. Periodic axes use the minimum image.
+//! CSR [`NeighbourList`](geosph_core::NeighbourList)s in cell order, bitwise identical for any
+//! number of threads, or closure-style access. Periodic axes use the minimum image.
 //!
 //! Modules:
 //! - [`grid`]: [`CellGrid`], its construction over a [`Domain`](geosph_core::Domain) and the
