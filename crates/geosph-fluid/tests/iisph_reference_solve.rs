@@ -65,8 +65,13 @@ fn density_change(
     {
         *term = p / (rho * rho);
     }
-    system.pressure_acceleration(&scratch.pressure_term, &mut scratch.acceleration);
+    system.pressure_acceleration(
+        &fluid.mass,
+        &scratch.pressure_term,
+        &mut scratch.acceleration,
+    );
     system.divergence(
+        &fluid.mass,
         &scratch.acceleration,
         &system.walls.acceleration,
         &mut scratch.divergence,
@@ -113,7 +118,12 @@ fn converged_iisph_pressure_equals_a_direct_sparse_solve() {
         *v += a * dt;
     }
     let mut divergence = vec![0.0; n];
-    system.divergence(&fluid.velocity, &system.walls.velocity, &mut divergence);
+    system.divergence(
+        &fluid.mass,
+        &fluid.velocity,
+        &system.walls.velocity,
+        &mut divergence,
+    );
     let source: Vec<Real> = (0..n)
         .map(|i| fluid.density[i] + dt * divergence[i] - RHO0)
         .collect();

@@ -100,9 +100,12 @@ impl Dfsph {
         let diagonal = system.diagonal();
         let walls_velocity = &system.walls.velocity;
         let Particles {
-            velocity, density, ..
+            velocity,
+            mass,
+            density,
+            ..
         } = fluid;
-        let density = &*density;
+        let (mass, density) = (&*mass, &*density);
         let Scratch {
             pressure_term,
             residual,
@@ -120,7 +123,7 @@ impl Dfsph {
                 .enumerate()
                 .with_min_len(MIN_LEN)
                 .for_each(|(i, (v, p))| {
-                    *v += system.pressure_acceleration_at(i, pressure_term) * dt;
+                    *v += system.pressure_acceleration_at(i, mass, pressure_term) * dt;
                     if let Some(increment) = increment {
                         *p += increment[i];
                     }
@@ -136,7 +139,7 @@ impl Dfsph {
                 .enumerate()
                 .with_min_len(MIN_LEN)
                 .for_each(|(i, (p, term))| {
-                    let div = system.divergence_at(i, velocity, walls_velocity);
+                    let div = system.divergence_at(i, mass, velocity, walls_velocity);
                     let rho_i = density[i];
                     *p = if diagonal[i] > 0.0 && residual_of(rho_i, div) > 0.0 {
                         *p * WARM_START
@@ -165,7 +168,7 @@ impl Dfsph {
                     .enumerate()
                     .with_min_len(MIN_LEN)
                     .for_each(|(i, ((r, dp), term))| {
-                        let div = system.divergence_at(i, velocity, walls_velocity);
+                        let div = system.divergence_at(i, mass, velocity, walls_velocity);
                         let rho_i = density[i];
                         *r = residual_of(rho_i, div);
                         *dp = if diagonal[i] > 0.0 {

@@ -91,6 +91,7 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
     let rho0 = system.rest_density;
     let Particles {
         velocity,
+        mass,
         density,
         pressure,
         ..
@@ -104,7 +105,7 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
     } = scratch;
 
     let walls = &system.walls;
-    let density = &*density;
+    let (mass, density) = (&*mass, &*density);
     // The density predicted from v* alone, minus ρ₀: residual_i = ρ*_i − ρ₀; and p/ρ² of the
     // starting pressure.
     {
@@ -116,14 +117,14 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
             .with_min_len(MIN_LEN)
             .for_each(|(i, (r, term))| {
                 let rho_i = density[i];
-                *r = rho_i + dt * system.divergence_at(i, velocity, &walls.velocity) - rho0;
+                *r = rho_i + dt * system.divergence_at(i, mass, velocity, &walls.velocity) - rho0;
                 *term = pressure[i] / (rho_i * rho_i);
             });
     }
 
     let mut report = SolveReport::default();
     while report.iterations < settings.max_iterations {
-        system.pressure_acceleration(pressure_term, acceleration);
+        system.pressure_acceleration(mass, pressure_term, acceleration);
         // The density the pressures predict, the Jacobi update and its p/ρ², in one pass.
         let acceleration = &*acceleration;
         pressure
@@ -136,7 +137,7 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
                 let rho_i = density[i];
                 // ρ̃_i − ρ₀ with the current pressures; kept for the error sum.
                 *predicted = residual[i]
-                    + dt * dt * system.divergence_at(i, acceleration, &walls.acceleration);
+                    + dt * dt * system.divergence_at(i, mass, acceleration, &walls.acceleration);
                 *p = (*p + step(i, rho_i) * *predicted).max(0.0);
                 *term = *p / (rho_i * rho_i);
             });
@@ -155,6 +156,6 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
         .par_iter_mut()
         .enumerate()
         .with_min_len(MIN_LEN)
-        .for_each(|(i, v)| *v += system.pressure_acceleration_at(i, pressure_term) * dt);
+        .for_each(|(i, v)| *v += system.pressure_acceleration_at(i, mass, pressure_term) * dt);
     report
 }

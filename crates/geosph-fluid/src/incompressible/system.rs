@@ -51,8 +51,7 @@ pub const DIAGONAL_FLOOR: Real = 1e-3;
 ///
 /// Lists are rebuilt exactly (no Verlet skin) after every position update: the incompressible
 /// solvers iterate many times over them per step, so a list without empty pairs pays off, and
-/// m_j ∇_i W_ij is stored per pair so that each iteration reads it instead of recomputing it
-/// (and reads no neighbour mass).
+/// ∇_i W_ij is stored per pair so that each iteration reads it instead of recomputing it.
 pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
     /// Smoothing kernel.
     pub kernel: K,
@@ -83,9 +82,9 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
     wall_grid: CellGrid<D>,
     fluid_fluid: NeighbourList,
     fluid_wall: NeighbourList,
-    /// m_j ∇_i W_ij per listed fluid pair, aligned with `fluid_fluid.indices`.
+    /// ∇_i W_ij per listed fluid pair, aligned with `fluid_fluid.indices`.
     fluid_gradient: Vec<Vector<D>>,
-    /// m_b ∇_i W_ib (m_b = ρ₀ V_b) per listed wall pair, aligned with `fluid_wall.indices`.
+    /// ∇_i W_ib per listed wall pair, aligned with `fluid_wall.indices`.
     wall_gradient: Vec<Vector<D>>,
     /// Σ_b m_b ∇_i W_ib of each fluid particle.
     wall_gradient_sum: Vec<Vector<D>>,
@@ -186,8 +185,8 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             ..
         } = fluid;
         let (position, mass) = (&*position, &*mass);
-        // One pass: each particle's weighted gradients m_j ∇_i W_ij, its summation density and
-        // its diagonal (which needs only the gradients), from one distance per pair.
+        // One pass: each particle's gradients ∇_i W_ij, its summation density and its diagonal
+        // (which needs only the gradients), from one distance per pair.
         for_each_particle(
             (&self.fluid_fluid, &self.fluid_wall),
             &mut self.fluid_gradient,
@@ -207,11 +206,10 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                     let r_ij = domain.displacement(&x_i, &position[j]);
                     let r = r_ij.norm();
                     let m_j = mass[j];
-                    let kernel_gradient = r_ij * kernel.gradient_factor(r);
-                    *gradient = kernel_gradient * m_j;
+                    *gradient = r_ij * kernel.gradient_factor(r);
                     rho += m_j * kernel.value(r);
-                    fluid_sum += *gradient;
-                    squares += m_j * kernel_gradient.norm_squared();
+                    fluid_sum += *gradient * m_j;
+                    squares += m_j * gradient.norm_squared();
                 }
                 let mut wall_sum = Vector::<D>::zeros();
                 for (&b, gradient) in view.wall.iter().zip(view.wall_values.iter_mut()) {
@@ -219,9 +217,9 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                     let r_ib = domain.displacement(&x_i, &walls.position[b]);
                     let r = r_ib.norm();
                     let m_b = rho0 * walls.volume[b];
-                    *gradient = r_ib * (m_b * kernel.gradient_factor(r));
+                    *gradient = r_ib * kernel.gradient_factor(r);
                     rho += m_b * kernel.value(r);
-                    wall_sum += *gradient;
+                    wall_sum += *gradient * m_b;
                 }
                 let (density, diagonal, wall_gradient_sum) = view.own;
                 *density = rho;
@@ -293,7 +291,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         let (x_i, v_i, rho_i) = (position[i], velocity[i], density[i]);
         let mut sum = gravity;
         let (start, end) = range(&self.fluid_fluid, i);
-        for (&j, &weighted) in self.fluid_fluid.indices[start..end]
+        for (&j, &grad) in self.fluid_fluid.indices[start..end]
             .iter()
             .zip(&self.fluid_gradient[start..end])
         {
@@ -303,20 +301,19 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             }
             let r_ij = domain.displacement(&x_i, &position[j]);
             let r2 = r_ij.norm_squared();
-            let mass_j = mass[j];
             sum += viscosity.acceleration(&Pair {
                 r_ij,
                 r2,
                 inv_r2_eta2: 1.0 / (r2 + eta2),
-                grad: weighted / mass_j,
+                grad,
                 v_ij: v_i - velocity[j],
                 rho_i,
                 rho_j: density[j],
-                mass_j,
+                mass_j: mass[j],
             });
         }
         let (start, end) = range(&self.fluid_wall, i);
-        for (&b, &weighted) in self.fluid_wall.indices[start..end]
+        for (&b, &grad) in self.fluid_wall.indices[start..end]
             .iter()
             .zip(&self.wall_gradient[start..end])
         {
@@ -328,7 +325,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                 r_ij: r_ib,
                 r2,
                 inv_r2_eta2: 1.0 / (r2 + eta2),
-                grad: weighted / mass_b,
+                grad,
                 v_ij: v_i - walls.velocity[b],
                 rho_i,
                 rho_j: rho_i,
@@ -339,7 +336,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                 // that p_b = p_i + ρ_i h_b stays ≥ 0 for the last step's p_i.
                 let h_b = (-(gravity - walls.acceleration[b]).dot(&r_ib))
                     .max(-previous_pressure[i] / rho_i);
-                sum -= weighted * (self.gradient_correction * h_b / rho_i);
+                sum -= grad * (self.gradient_correction * mass_b * h_b / rho_i);
             }
         }
         sum
@@ -349,26 +346,37 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     /// a_i = −c [Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij + (2 p_i/ρ_i²) Σ_b m_b ∇_i W_ib]
     /// (Monaghan 1992, eq. 3.3, with mirrored wall pressure and the constant
     /// [`PressureSystem::gradient_correction`] c), from `pressure_term` = p/ρ².
-    pub fn pressure_acceleration(&self, pressure_term: &[Real], acceleration: &mut [Vector<D>]) {
+    pub fn pressure_acceleration(
+        &self,
+        mass: &[Real],
+        pressure_term: &[Real],
+        acceleration: &mut [Vector<D>],
+    ) {
         acceleration
             .par_iter_mut()
             .enumerate()
             .with_min_len(MIN_LEN)
-            .for_each(|(i, a_i)| *a_i = self.pressure_acceleration_at(i, pressure_term));
+            .for_each(|(i, a_i)| *a_i = self.pressure_acceleration_at(i, mass, pressure_term));
     }
 
     /// [`Self::pressure_acceleration`] of particle `i`, for solvers that fuse it with their
     /// own per-particle update in one pass.
     #[inline]
-    pub fn pressure_acceleration_at(&self, i: usize, pressure_term: &[Real]) -> Vector<D> {
+    pub fn pressure_acceleration_at(
+        &self,
+        i: usize,
+        mass: &[Real],
+        pressure_term: &[Real],
+    ) -> Vector<D> {
         let term_i = pressure_term[i];
         let (start, end) = range(&self.fluid_fluid, i);
         let mut sum = self.wall_gradient_sum[i] * (2.0 * term_i);
-        for (&j, weighted) in self.fluid_fluid.indices[start..end]
+        for (&j, gradient) in self.fluid_fluid.indices[start..end]
             .iter()
             .zip(&self.fluid_gradient[start..end])
         {
-            sum += weighted * (term_i + pressure_term[j as usize]);
+            let j = j as usize;
+            sum += gradient * (mass[j] * (term_i + pressure_term[j]));
         }
         sum * -self.gradient_correction
     }
@@ -376,33 +384,47 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     /// The SPH divergence Σ_j m_j (u_i − u_j)·∇_i W_ij + Σ_b m_b (u_i − u_b)·∇_i W_ib of a
     /// velocity-like field `u` (continuity equation, Monaghan 1992, eq. 2.9), with `wall` the
     /// walls' value of the field (their velocity or acceleration).
-    pub fn divergence(&self, field: &[Vector<D>], wall: &[Vector<D>], divergence: &mut [Real]) {
+    pub fn divergence(
+        &self,
+        mass: &[Real],
+        field: &[Vector<D>],
+        wall: &[Vector<D>],
+        divergence: &mut [Real],
+    ) {
         divergence
             .par_iter_mut()
             .enumerate()
             .with_min_len(MIN_LEN)
-            .for_each(|(i, div_i)| *div_i = self.divergence_at(i, field, wall));
+            .for_each(|(i, div_i)| *div_i = self.divergence_at(i, mass, field, wall));
     }
 
     /// [`Self::divergence`] of particle `i`, for solvers that fuse it with their own
     /// per-particle update in one pass.
     #[inline]
-    pub fn divergence_at(&self, i: usize, field: &[Vector<D>], wall: &[Vector<D>]) -> Real {
+    pub fn divergence_at(
+        &self,
+        i: usize,
+        mass: &[Real],
+        field: &[Vector<D>],
+        wall: &[Vector<D>],
+    ) -> Real {
         let u_i = field[i];
         let (start, end) = range(&self.fluid_fluid, i);
         let mut sum = 0.0;
-        for (&j, weighted) in self.fluid_fluid.indices[start..end]
+        for (&j, gradient) in self.fluid_fluid.indices[start..end]
             .iter()
             .zip(&self.fluid_gradient[start..end])
         {
-            sum += (u_i - field[j as usize]).dot(weighted);
+            let j = j as usize;
+            sum += mass[j] * (u_i - field[j]).dot(gradient);
         }
         let (start, end) = range(&self.fluid_wall, i);
-        for (&b, weighted) in self.fluid_wall.indices[start..end]
+        for (&b, gradient) in self.fluid_wall.indices[start..end]
             .iter()
             .zip(&self.wall_gradient[start..end])
         {
-            sum += (u_i - wall[b as usize]).dot(weighted);
+            let b = b as usize;
+            sum += self.rest_density * self.walls.volume[b] * (u_i - wall[b]).dot(gradient);
         }
         sum
     }
