@@ -82,6 +82,12 @@ pub struct Outcome {
 impl Outcome {
     /// Whether the run finished with a finite error and time.
     pub fn is_ok(&self) -> bool {
-        self.status == "ok" && self.error.is_finite() && self.wall_time.is_finite()
+        self.completed() && self.error.is_finite()
+    }
+
+    /// Whether the run finished, with or without an error estimate (a collapse run that is
+    /// the only one of its series has no finer run to be compared with).
+    pub fn completed(&self) -> bool {
+        self.status == "ok" && self.wall_time.is_finite()
     }
 }

@@ -132,7 +132,7 @@ fn run(cli: &Cli) -> Result<bool, String> {
     )?;
     let failed: Vec<String> = outcomes
         .iter()
-        .filter(|o| !o.is_ok())
+        .filter(|o| !o.completed())
         .map(|o| {
             format!(
                 "{} {}: {}",

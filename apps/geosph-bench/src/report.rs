@@ -204,6 +204,8 @@ pub fn markdown(outcomes: &[Outcome], header: &str, image_folder: &str) -> Strin
                 o.particle_steps_per_second * 1e-6,
                 if o.is_ok() {
                     format!("{:.3e}", o.error)
+                } else if o.completed() {
+                    "no finer run of its series to compare with".to_string()
                 } else {
                     format!("failed: {}", o.status)
                 }
