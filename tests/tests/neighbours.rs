@@ -3,8 +3,8 @@
 //! The definition being checked: `j` is a neighbour of query point `x_q` when
 //! `d = domain.displacement(x_q, x_j)` (minimum image on periodic axes) has `d·d ≤ radius²`,
 //! inclusive; each list is in cell order (ascending index within a cell), and is compared with
-//! the brute force after sorting. Pairs exactly at the radius are built
-//! from exactly representable lattice spacings (radius/2, and the 3-4-5 triangle).
+//! the brute force after sorting. Pairs exactly at the radius are built from exactly
+//! representable lattice spacings (radius/2, and the 3-4-5 triangle).
 
 use geosph_core::{Domain, NeighbourList, Particles, Real, Vector};
 use geosph_neighbours::{CellGrid, SearchError, morton_encode, rayon};

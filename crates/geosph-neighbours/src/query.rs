@@ -237,13 +237,13 @@ impl<const D: usize> CellGrid<D> {
     /// buffers are reused, so repeated calls of similar size do not allocate.
     ///
     /// Queries run in parallel in fixed chunks, a wave of chunks at a time; each chunk writes
-    /// its queries' runs to its own scratch buffer, and the buffers are appended to the
-    /// list in query order. Every run depends only on its query and the built positions, so
-    /// the list is bitwise identical for any number of threads. The runs are not sorted by
-    /// index: the order is as fixed, and sorting them cost a third of the query time (a 2D
-    /// dam break of 9 000 particles, `docs/performance.md`). Queries run in index order: sort the particles
-    /// along a space-filling curve ([`CellGrid::z_order`]) now and then to keep memory
-    /// access local.
+    /// its queries' runs to its own scratch buffer, and the buffers are appended to the list
+    /// in query order. Every run depends only on its query and the built positions, so the
+    /// list is bitwise identical for any number of threads. The runs are not sorted by index:
+    /// the order is as fixed, and sorting them cost a third of the query time (a 2D dam break
+    /// of 9 000 particles, `docs/performance.md`). Queries run in index order: sort the
+    /// particles along a space-filling curve ([`CellGrid::z_order`]) now and then to keep
+    /// memory access local.
     ///
     /// # Panics
     /// If `position.len()` differs from the number of built particles, or if the list would

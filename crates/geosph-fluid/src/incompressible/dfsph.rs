@@ -16,8 +16,9 @@ use crate::viscosity::Viscosity;
 /// - **Constant density** (ibid., Algorithm 3): while the average of the predicted
 ///   compression max(ρ*_i − ρ₀, 0), ρ*_i = ρ_i + Δt Σ_j m_j (v_i − v_j)·∇_i W_ij, exceeds the
 ///   target (or a particle that takes pressure is predicted beyond `max_compression`, our
-///   addition: `docs/incompressible.md`), each particle takes the pressure increment δp_i = (ρ*_i − ρ₀) ρ_i² / (Δt² d_i)
-///   (the stiffness κ_i = δp_i/ρ_i of the paper) and the velocities change by Δt a^p(δp).
+///   addition: `docs/incompressible.md`), each particle takes the pressure increment
+///   δp_i = (ρ*_i − ρ₀) ρ_i² / (Δt² d_i) (the stiffness κ_i = δp_i/ρ_i of the paper) and the
+///   velocities change by Δt a^p(δp).
 /// - **Divergence-free** (ibid., Algorithm 2), after the positions and lists are updated: the
 ///   same with the density rate max(Σ_j m_j (v_i − v_j)·∇_i W_ij, 0) and
 ///   δp_i = (Dρ_i/Dt) ρ_i² / (Δt d_i), until Δt times its average is below the target.
