@@ -77,9 +77,10 @@ impl<const D: usize> PressureMethod<D> for Iisph {
 /// the per-particle step `step(i, ρ_i)`; then applies v ← v* + Δt a^p.
 ///
 /// Each iteration is two gather passes over the pairs: a^p from p, then the density change
-/// Δt² Σ_j m_j (a^p_i − a^p_j)·∇_i W_ij (+ walls) that a^p causes. The error is the mean of
-/// max(ρ̃_i/ρ₀ − 1, 0); iterations stop when it is at most the target after the minimum count
-/// and no particle that takes pressure is predicted beyond `max_compression`.
+/// Δt² Σ_j m_j (a^p_i − a^p_j)·∇_i W_ij (+ walls) that a^p causes. The error is the
+/// [complementarity error](super::complementarity_error) over ρ₀: |ρ̃_i/ρ₀ − 1| where p_i > 0,
+/// max(ρ̃_i/ρ₀ − 1, 0) elsewhere; iterations stop when it is at most the target after the
+/// minimum count and no particle that takes pressure is predicted beyond `max_compression`.
 pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
     system: &PressureSystem<D, K, V>,
     fluid: &mut Particles<D>,
@@ -142,7 +143,7 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
                 *term = *p / (rho_i * rho_i);
             });
         report.iterations += 1;
-        let (mean, max) = super::mean_and_max_positive(divergence, system.diagonal());
+        let (mean, max) = super::complementarity_error(divergence, pressure, system.diagonal());
         report.error = mean / rho0;
         if report.iterations >= settings.min_iterations
             && report.error <= settings.target_density_error
