@@ -6,8 +6,9 @@
 //!   the run at the target (5 % allowance, see the assertion), no particle through a wall,
 //!   the mass exact, and the layer-averaged pressure (second 10 s) against ρ₀ g (H − y), H the
 //!   depth of the water's mass at ρ₀: the bed layer and the mean over the layers below the top
-//!   three within 5 % (see the test). With IISPH converged to 0.01 %, every such layer within
-//!   2 % of the bed pressure ρ₀ g H.
+//!   three within 5 % (see the test); for IISPH and DFSPH, and for IISPH converged to 0.01 %,
+//!   the profile averaged over pairs of adjacent layers within 2 % of the bed pressure
+//!   ρ₀ g H.
 //! - Dam break (coarse, dx = 0.04 m) at the default velocity CFL of 0.4, against Martin &
 //!   Moyce (1952) with the same bounds as the WCSPH case (`dam_break.rs`: front RMS < 0.35,
 //!   every point within 0.5, height RMS < 0.08, never ahead of Ritter's bound), and an
@@ -90,7 +91,21 @@ fn profile_error(layers: &[(Real, Real)], water_depth: Real) -> Real {
         .fold(0.0, Real::max)
 }
 
-fn hydrostatic_tank(solver: &str) {
+/// Largest deviation of the profile averaged over pairs of adjacent layers (2 dx), as a
+/// fraction of ρ₀ g H. The pair average removes the layer-to-layer alternation of the
+/// pressure, the Nyquist mode p ∝ (−1)^row that exerts no force on a lattice particle and so
+/// is not fixed by the density constraint (`docs/incompressible.md`, "Still water").
+fn pair_profile_error(layers: &[(Real, Real)], water_depth: Real) -> Real {
+    let pairs: Vec<(Real, Real)> = layers
+        .windows(2)
+        .map(|w| (0.5 * (w[0].0 + w[1].0), 0.5 * (w[0].1 + w[1].1)))
+        .collect();
+    profile_error(&pairs, water_depth)
+}
+
+/// The still tank at the default 0.1 % target; `profile_bound`, where given, bounds the
+/// pair-averaged profile error ([`pair_profile_error`]).
+fn hydrostatic_tank(solver: &str, profile_bound: Option<Real>) {
     let (summary, layers, water_depth, fluid) = tank_profile(solver);
     // At the default 0.1 % target the pressure level depends on the solver's path to
     // convergence (`docs/incompressible.md`, "Still water"): asserted is the WCSPH tank's 5 %
@@ -106,6 +121,19 @@ fn hydrostatic_tank(solver: &str) {
         100.0 * errors[0],
         100.0 * mean_error
     );
+    let smoothed = pair_profile_error(&layers, water_depth);
+    println!(
+        "{solver}: largest error of ρ₀ g H: single layer {:.2} %, pair of layers {:.2} %",
+        100.0 * profile_error(&layers, water_depth),
+        100.0 * smoothed
+    );
+    if let Some(bound) = profile_bound {
+        assert!(
+            smoothed < bound,
+            "{solver}: largest error {:.2} % of ρ₀ g H over pairs of layers",
+            100.0 * smoothed
+        );
+    }
     check_contained(&fluid, summary.fluid_particles, WIDTH);
     // The solves stop once the *predicted* mean compression is at most the 0.1 % target;
     // the compression measured after the move differs from that linear prediction at
@@ -131,11 +159,7 @@ fn hydrostatic_tank_converged_iisph_is_within_2_percent() {
     let solver = "Iisph((target_density_error: 0.0001, max_iterations: 500))";
     let (summary, layers, water_depth, fluid) = tank_profile(solver);
     let error = profile_error(&layers, water_depth);
-    let pairs: Vec<(Real, Real)> = layers
-        .windows(2)
-        .map(|w| (0.5 * (w[0].0 + w[1].0), 0.5 * (w[0].1 + w[1].1)))
-        .collect();
-    let smoothed = profile_error(&pairs, water_depth);
+    let smoothed = pair_profile_error(&layers, water_depth);
     println!(
         "largest error of ρ₀ g H: single layer {:.2} %, pair of layers {:.2} %",
         100.0 * error,
@@ -151,19 +175,23 @@ fn hydrostatic_tank_converged_iisph_is_within_2_percent() {
     assert!(summary.mean_density_error < 1.05e-4);
 }
 
+/// PCISPH's layers stand +1.2 % above ρ₀ g (H − y) on average at the default target, and its
+/// pair-averaged profile is 2.5 % off: only the 5 % guard is asserted.
 #[test]
 fn hydrostatic_tank_holds_rho_g_depth_for_20_s_pcisph() {
-    hydrostatic_tank("Pcisph(())");
+    hydrostatic_tank("Pcisph(())", None);
 }
 
+/// The 2 % on the pair-averaged profile (1.3 % measured).
 #[test]
 fn hydrostatic_tank_holds_rho_g_depth_for_20_s_iisph() {
-    hydrostatic_tank("Iisph(())");
+    hydrostatic_tank("Iisph(())", Some(0.02));
 }
 
+/// The 2 % on the pair-averaged profile (1.0 % measured).
 #[test]
 fn hydrostatic_tank_holds_rho_g_depth_for_20_s_dfsph() {
-    hydrostatic_tank("Dfsph(())");
+    hydrostatic_tank("Dfsph(())", Some(0.02));
 }
 
 fn dam_break(solver: &str) {
