@@ -647,4 +647,39 @@ mod tests {
         println!("wendland-c2 1.3 3D: λ_max = {bound_3d:.4}");
         assert!(bound_3d > 1.0 && bound_3d < 10.0);
     }
+
+    /// |Σ_j (p_i + p_j) ∇_i W_ij| over a filled lattice for p_j = (−1)^(row of j) (p_i = 1 at
+    /// row 0) and for p_j = row of j (p_i = 0).
+    fn row_mode_forces<K: Kernel<2>>(kernel: &K, dx: Real) -> (Real, Real) {
+        let (mut alternating, mut linear) = (Vector::<2>::zeros(), Vector::<2>::zeros());
+        for_each_lattice_offset::<2>(kernel.support_radius(), dx, |x| {
+            let row = (x[1] / dx).round() as i64;
+            let sign = if row % 2 == 0 { 1.0 } else { -1.0 };
+            alternating += kernel.gradient(&-x) * (1.0 + sign);
+            linear += kernel.gradient(&-x) * row as Real;
+        });
+        (alternating.norm(), linear.norm())
+    }
+
+    /// The pressure p_j = (−1)^(row of j) is a null mode of the symmetric pressure force on a
+    /// lattice (`docs/incompressible.md`, "Still water"): its force vanishes for every kernel,
+    /// while a pressure rising by one per row, of the same size, is felt.
+    #[test]
+    fn alternating_row_pressure_exerts_no_force_on_a_lattice_particle() {
+        let dx: Real = 0.01;
+        for (name, (alternating, linear)) in [
+            (
+                "wendland-c2",
+                row_mode_forces(&WendlandC2::<2>::new(1.3 * dx), dx),
+            ),
+            ("cubic", row_mode_forces(&CubicSpline::<2>::new(dx), dx)),
+            (
+                "quintic",
+                row_mode_forces(&QuinticSpline::<2>::new(1.3 * dx), dx),
+            ),
+        ] {
+            println!("{name}: |F| alternating {alternating:.3e}, linear {linear:.3e}");
+            assert!(alternating < 1e-9 * linear, "{name}");
+        }
+    }
 }
