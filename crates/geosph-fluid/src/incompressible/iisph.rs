@@ -62,14 +62,32 @@ impl<const D: usize> PressureMethod<D> for Iisph {
             .zip(diagonal.par_iter())
             .for_each(|(p, d)| *p = if *d > 0.0 { *p * warm_start } else { 0.0 });
         let relaxation = self.relaxation.min(system.relaxation_limit());
-        relaxed_jacobi(system, fluid, dt, settings, scratch, |i, rho_i| {
-            if diagonal[i] > 0.0 {
-                relaxation * rho_i * rho_i / (dt * dt * diagonal[i])
-            } else {
-                0.0
-            }
-        })
+        relaxed_jacobi(
+            system,
+            fluid,
+            dt,
+            settings,
+            scratch,
+            StopOn::Complementarity,
+            |i, rho_i| {
+                if diagonal[i] > 0.0 {
+                    relaxation * rho_i * rho_i / (dt * dt * diagonal[i])
+                } else {
+                    0.0
+                }
+            },
+        )
     }
+}
+
+/// The error a [`relaxed_jacobi`] solve stops on.
+#[derive(Clone, Copy)]
+pub(crate) enum StopOn {
+    /// The mean compression, mean of max(ρ̃_i/ρ₀ − 1, 0) (PCISPH).
+    Compression,
+    /// The [complementarity error](super::complementarity_error) over ρ₀: |ρ̃_i/ρ₀ − 1| where
+    /// p_i > 0, max(ρ̃_i/ρ₀ − 1, 0) elsewhere (IISPH).
+    Complementarity,
 }
 
 /// Solves for pressures p ≥ 0 that bring the density predicted from the velocities v* in
@@ -77,16 +95,16 @@ impl<const D: usize> PressureMethod<D> for Iisph {
 /// the per-particle step `step(i, ρ_i)`; then applies v ← v* + Δt a^p.
 ///
 /// Each iteration is two gather passes over the pairs: a^p from p, then the density change
-/// Δt² Σ_j m_j (a^p_i − a^p_j)·∇_i W_ij (+ walls) that a^p causes. The error is the
-/// [complementarity error](super::complementarity_error) over ρ₀: |ρ̃_i/ρ₀ − 1| where p_i > 0,
-/// max(ρ̃_i/ρ₀ − 1, 0) elsewhere; iterations stop when it is at most the target after the
-/// minimum count and no particle that takes pressure is predicted beyond `max_compression`.
+/// Δt² Σ_j m_j (a^p_i − a^p_j)·∇_i W_ij (+ walls) that a^p causes. The error over ρ₀ is that
+/// of `stop`; iterations stop when it is at most the target after the minimum count and no
+/// particle that takes pressure is predicted beyond `max_compression`.
 pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
     system: &PressureSystem<D, K, V>,
     fluid: &mut Particles<D>,
     dt: Real,
     settings: &PressureSolveSettings,
     scratch: &mut Scratch<D>,
+    stop: StopOn,
     step: impl Fn(usize, Real) -> Real + Sync,
 ) -> SolveReport {
     let rho0 = system.rest_density;
@@ -143,7 +161,12 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
                 *term = *p / (rho_i * rho_i);
             });
         report.iterations += 1;
-        let (mean, max) = super::complementarity_error(divergence, pressure, system.diagonal());
+        let (mean, max) = match stop {
+            StopOn::Compression => super::mean_and_max_positive(divergence, system.diagonal()),
+            StopOn::Complementarity => {
+                super::complementarity_error(divergence, pressure, system.diagonal())
+            }
+        };
         report.error = mean / rho0;
         if report.iterations >= settings.min_iterations
             && report.error <= settings.target_density_error

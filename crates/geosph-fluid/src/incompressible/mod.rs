@@ -44,9 +44,8 @@ use crate::viscosity::Viscosity;
 #[serde(deny_unknown_fields, default)]
 pub struct PressureSolveSettings {
     /// Target of the mean relative density error of the predicted densities ρ̃ (default
-    /// 0.001 = 0.1 %): for PCISPH and IISPH the complementarity error
-    /// (|ρ̃/ρ₀ − 1| where p > 0, the compression max(ρ̃/ρ₀ − 1, 0) elsewhere), for DFSPH the
-    /// compression alone.
+    /// 0.001 = 0.1 %): for IISPH the complementarity error (|ρ̃/ρ₀ − 1| where p > 0, the
+    /// compression max(ρ̃/ρ₀ − 1, 0) elsewhere), for PCISPH and DFSPH the compression alone.
     pub target_density_error: Real,
     /// Bound on the largest predicted compression (ρ̃_i − ρ₀)/ρ₀ of a particle that takes
     /// pressure (default 0.1 = 10 %): the solve goes on past the mean target while a particle

@@ -4,7 +4,7 @@ use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use rayon::prelude::*;
 
-use super::iisph::relaxed_jacobi;
+use super::iisph::{StopOn, relaxed_jacobi};
 use super::system::lattice_gradient_squares;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
 use crate::viscosity::Viscosity;
@@ -67,16 +67,24 @@ impl<const D: usize> PressureMethod<D> for Pcisph {
             ..*settings
         };
         let diagonal = system.diagonal();
-        relaxed_jacobi(system, fluid, dt, &settings, scratch, |i, rho_i| {
-            // Never a larger step than ½ of the particle's own diagonal allows: next to a
-            // wall, whose mirrored pressure doubles its share, d_i exceeds the prototype's
-            // and the global δ would over-relax.
-            if diagonal[i] > 0.0 {
-                delta.min(relaxation * rho_i * rho_i / (dt * dt * diagonal[i]))
-            } else {
-                0.0
-            }
-        })
+        relaxed_jacobi(
+            system,
+            fluid,
+            dt,
+            &settings,
+            scratch,
+            StopOn::Compression,
+            |i, rho_i| {
+                // Never a larger step than ½ of the particle's own diagonal allows: next to a
+                // wall, whose mirrored pressure doubles its share, d_i exceeds the prototype's
+                // and the global δ would over-relax.
+                if diagonal[i] > 0.0 {
+                    delta.min(relaxation * rho_i * rho_i / (dt * dt * diagonal[i]))
+                } else {
+                    0.0
+                }
+            },
+        )
     }
 }
 
