@@ -370,15 +370,7 @@ pub fn compression(density: &[Real], rest_density: Real) -> (Real, Real) {
 /// Mean of the positive entries of `values`, summed in index order, and the largest entry
 /// of a particle with a non-zero `diagonal` (one that can take pressure; 0 if none).
 pub(crate) fn mean_and_max_positive(values: &[Real], diagonal: &[Real]) -> (Real, Real) {
-    let (sum, max) =
-        values
-            .iter()
-            .zip(diagonal)
-            .fold((0.0, 0.0), |(sum, max): (Real, Real), (&value, &d)| {
-                let max = if d > 0.0 { max.max(value) } else { max };
-                (sum + value.max(0.0), max)
-            });
-    (sum / values.len().max(1) as Real, max)
+    mean_error_and_max(values, diagonal, |_, value| value.max(0.0))
 }
 
 /// The complementarity error of a pressure solve with p ≥ 0: the mean over all particles of
@@ -395,12 +387,27 @@ pub(crate) fn complementarity_error(
     pressure: &[Real],
     diagonal: &[Real],
 ) -> (Real, Real) {
-    let (sum, max) = residual.iter().zip(pressure).zip(diagonal).fold(
+    mean_error_and_max(residual, diagonal, |i, r| {
+        if pressure[i] > 0.0 {
+            r.abs()
+        } else {
+            r.max(0.0)
+        }
+    })
+}
+
+/// The mean of `error(i, r_i)` over `residual`, summed in index order, and the largest r_i of
+/// a particle with a non-zero `diagonal` (0 if none).
+fn mean_error_and_max(
+    residual: &[Real],
+    diagonal: &[Real],
+    error: impl Fn(usize, Real) -> Real,
+) -> (Real, Real) {
+    let (sum, max) = residual.iter().zip(diagonal).enumerate().fold(
         (0.0, 0.0),
-        |(sum, max): (Real, Real), ((&r, &p), &d)| {
+        |(sum, max): (Real, Real), (i, (&r, &d))| {
             let max = if d > 0.0 { max.max(r) } else { max };
-            let error = if p > 0.0 { r.abs() } else { r.max(0.0) };
-            (sum + error, max)
+            (sum + error(i, r), max)
         },
     );
     (sum / residual.len().max(1) as Real, max)
