@@ -353,13 +353,24 @@ impl<const D: usize> Observer<D> for Extent {
     }
 }
 
-/// A 0.2 m water block thrown at 20 m/s against the left wall of a closed 1 m tank
-/// (dx = 0.01 m): no particle may cross a wall.
-pub fn impact(solver: &'static str, quick: bool) -> StabilityResult {
-    let started = Instant::now();
-    let dx = if quick { 0.02 } else { 0.01 };
+/// Where the fluid of [`impact`] ended: its smallest and largest x and its largest y (m), the
+/// tank's inner faces being x = 0, x = 1 m and y = 1 m, and the run's summary.
+pub struct ImpactOutcome {
+    /// Smallest x of a fluid particle at the end (the left wall's face is x = 0).
+    pub min: Real,
+    /// Largest x at the end (the right wall's face is x = 1 m).
+    pub max: Real,
+    /// Largest y at the end (the lid's face is y = 1 m).
+    pub top: Real,
+    /// The run's summary.
+    pub summary: geosph_runner::Summary,
+}
+
+/// Runs the 0.2 m water block thrown at 20 m/s against the left wall of a closed 1 m tank
+/// with `solver` at spacing `dx`, or says why it stopped.
+pub fn impact_outcome(solver: &str, dx: Real) -> Result<ImpactOutcome, String> {
     let mut extent = Extent::new(dx, false);
-    let outcome = Scene::from_ron(&format!(
+    let scene = Scene::from_ron(&format!(
         "Scene(name: \"impact\", dimension: 2, dx: {dx}, end_time: 0.1,
            output: (interval: 0.1, sample_interval: 0.005, vtk: false),
            fluid: (blocks: [Box(min: [0.4, 0.0], max: [0.6, 0.2])], hydrostatic: false,
@@ -367,23 +378,36 @@ pub fn impact(solver: &'static str, quick: bool) -> StabilityResult {
            walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0], open_top: false)],
            solver: Wcsph(()))"
     ))
-    .map_err(|error| error.to_string())
-    .and_then(|mut scene| {
+    .map_err(|error| error.to_string());
+    let summary = scene.and_then(|mut scene| {
         scene.solver = SolverSpec::from_name(solver).ok_or("unknown solver")?;
         run(&scene, &RunOptions::default(), &mut extent)
-    });
-    let (measured, passed) = match outcome {
+    })?;
+    Ok(ImpactOutcome {
+        min: extent.min,
+        max: extent.max,
+        top: extent.top,
+        summary,
+    })
+}
+
+/// A 0.2 m water block thrown at 20 m/s against the left wall of a closed 1 m tank
+/// (dx = 0.01 m): no particle may cross a wall.
+pub fn impact(solver: &'static str, quick: bool) -> StabilityResult {
+    let started = Instant::now();
+    let dx = if quick { 0.02 } else { 0.01 };
+    let (measured, passed) = match impact_outcome(solver, dx) {
         Err(reason) => (format!("blew up: {reason}"), false),
-        Ok(summary) => (
+        Ok(end) => (
             format!(
                 "{} steps; particles in x = {:.3}…{:.3} m, below y = {:.3} m at the end; max density error {:.1} %",
-                summary.steps,
-                extent.min,
-                extent.max,
-                extent.top,
-                100.0 * summary.max_density_error
+                end.summary.steps,
+                end.min,
+                end.max,
+                end.top,
+                100.0 * end.summary.max_density_error
             ),
-            extent.min > 0.0 && extent.max < 1.0 && extent.top < 1.0,
+            end.min > 0.0 && end.max < 1.0 && end.top < 1.0,
         ),
     };
     StabilityResult {

@@ -113,16 +113,18 @@ pub fn density_errors(density: &[Real], rest_density: Real) -> (Real, Real) {
 }
 
 /// The step to take when the stability limit is `stable` and the next event (output, sample,
-/// end) is `max_dt` away: the event itself when it is within reach, half the way when it is
-/// less than two steps away (so no sliver of a step is left before the event), else `stable`.
+/// end) is `max_dt` away: the interval divided into the fewest equal steps no longer than
+/// `stable`, so the steps up to an event are all alike and none is a sliver.
+///
+/// `stable` is exceeded by at most a relative 10⁻⁶, so that an event a whole number of steps
+/// away up to the round-off of the accumulated time is not reached by an extra half step.
+/// Equal steps matter for the incompressible solvers: their pressure corrects the density
+/// error left by the previous step within one step, so it scales with 1/Δt², and a step
+/// shortened to land on an event would put a pressure unlike the run's into every output and
+/// sample (`docs/incompressible.md`, "Equal steps up to each event").
 pub fn event_step(stable: Real, max_dt: Real) -> Real {
-    if stable >= max_dt {
-        max_dt
-    } else if 2.0 * stable > max_dt {
-        0.5 * max_dt
-    } else {
-        stable
-    }
+    let steps = (max_dt / stable * (1.0 - 1e-6)).ceil().max(1.0);
+    max_dt / steps
 }
 
 /// Largest |v| of `velocity`.
@@ -320,6 +322,12 @@ mod tests {
     fn events_are_reached_without_slivers() {
         assert_eq!(event_step(1e-4, 5e-5), 5e-5);
         assert_eq!(event_step(1e-4, 1.5e-4), 0.75e-4);
-        assert_eq!(event_step(1e-4, 1e-3), 1e-4);
+        approx::assert_relative_eq!(event_step(1e-4, 1e-3), 1e-4, max_relative = 1e-15);
+        // Three equal steps rather than two full ones and a remainder of 5 %.
+        approx::assert_relative_eq!(event_step(1e-4, 2.1e-4), 0.7e-4, max_relative = 1e-15);
+        // An event one step away up to round-off is reached in one step, not two halves.
+        let rounded = 1e-4 * (1.0 + 1e-12);
+        assert_eq!(event_step(1e-4, rounded), rounded);
+        assert_eq!(event_step(Real::INFINITY, 0.1), 0.1);
     }
 }
