@@ -99,6 +99,11 @@ const CASES: &[(&str, &str, &str)] = &[
     ("output interval zero", "interval: 0.005, => interval: 0.0,", "`output.interval`: must be a finite number > 0, got 0"),
     ("a billion frames", "interval: 0.005, => interval: 1e-11,", "`output.interval`: must be at least end_time / 100000"),
     ("negative sample interval", "sample_interval: 0.005 => sample_interval: -1.0", "`output.sample_interval`: must be a finite number > 0, got -1"),
+    ("probe in 3D", "vtk: true), => vtk: true, probes: [(name: \"bed\", position: [0.2, 0.0, 0.1])]),", "`output.probes[0].position`: needs 2 coordinates (the scene's dimension), got 3"),
+    ("probe at NaN", "vtk: true), => vtk: true, probes: [(name: \"bed\", position: [0.2, NaN])]),", "`output.probes[0].position`: coordinates must be finite, got NaN"),
+    ("probe name with a comma", "vtk: true), => vtk: true, probes: [(name: \"a,b\", position: [0.2, 0.1])]),", "`output.probes[0].name`: must be 1 to 100 letters"),
+    ("probe names repeated", "vtk: true), => vtk: true, probes: [(name: \"p\", position: [0.2, 0.1]), (name: \"p\", position: [0.3, 0.1])]),", "`output.probes[1].name`: must be unique, \"p\" is used twice"),
+    ("probe without a position", "vtk: true), => vtk: true, probes: [(name: \"p\")]),", "position"),
     // Geometry.
     ("empty scene: no fluid", "fluid: (density: 1000.0, blocks: [Box(min: [0.0, 0.0], max: [0.5, 1.0])], hydrostatic: true), => ", "`fluid`: the scene has no fluid"),
     ("no fluid blocks", "blocks: [Box(min: [0.0, 0.0], max: [0.5, 1.0])] => blocks: []", "`fluid.blocks`: needs at least one region, got none"),
@@ -154,6 +159,7 @@ const SOIL_CASES: &[(&str, &str, &str)] = &[
     ("dilatancy above friction", "dilatancy_angle_deg: 0.0 => dilatancy_angle_deg: 30.0", "`solver.constitutive.dilatancy_angle_deg`: must lie in [0, friction_angle_deg] degrees, got 30"),
     ("soil CFL too large", "cfl: 0.2 => cfl: 1.2", "`solver.cfl`: must lie in (0, 1], got 1.2"),
     ("misspelt material field", "poisson_ratio: 0.3 => poison_ratio: 0.3", "poison_ratio"),
+    ("pressure probe on soil", "vtk: true), => vtk: true, probes: [(name: \"p\", position: [0.1, 0.05])]),", "`output.probes`: pressure probes need a fluid solver"),
 ];
 
 /// The scene text of a case: `spec` patched into `base`, or `spec` itself.

@@ -15,6 +15,8 @@
 //! - [`observer`]: the [`Observer`] hook through which applications sample their own
 //!   quantities (e.g. a dam-break front) at every sample time.
 //! - [`output`]: the run's output folder: frames, `.pvd`, CSV.
+//! - [`probes`]: pressure probes at fixed points (the scene's `output.probes`), extra columns
+//!   `p_<name>` of `diagnostics.csv`.
 //! - [`health`]: the blow-up checks, their bounds and the blow-up report.
 //! - [`escape`]: particles that leave the domain, removed from the run, counted and reported.
 //! - [`interrupt`]: the Ctrl-C flag the loop checks once per step.
@@ -52,8 +54,10 @@ pub mod health;
 pub mod interrupt;
 pub mod observer;
 pub mod output;
+pub mod probes;
 pub mod run;
 
 pub use checkpoint::CheckpointEvery;
 pub use observer::{NoObserver, Observer, push_records, take_records};
+pub use probes::PressureProbes;
 pub use run::{RunError, RunOptions, Summary, run};

@@ -19,6 +19,7 @@ use crate::health::report::{BlowUpFiles, BlowUpReport};
 use crate::health::{self, Diagnosis, LimitInputs, Limits};
 use crate::observer::Observer;
 use crate::output::RunOutput;
+use crate::probes::PressureProbes;
 
 /// How to run a scene, beyond what the scene says.
 #[derive(Clone, Debug, Default)]
@@ -219,6 +220,11 @@ fn run_in<const D: usize>(
     observer: &mut dyn Observer<D>,
 ) -> Result<Summary, RunError> {
     let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
+    let mut probes = PressureProbes::<D>::new(
+        &scene.output.probes,
+        solver_inputs.kernel,
+        solver_inputs.smoothing_length,
+    );
     let wall_particles = solver_inputs.walls.len();
     let limit_inputs = LimitInputs::of(&solver_inputs);
     let mut geostatic = None;
@@ -272,19 +278,16 @@ fn run_in<const D: usize>(
         }
         None => None,
     };
+    let mut columns = observer.columns();
+    columns.extend(probes.columns().iter().map(String::as_str));
     let mut output = match (&options.out_dir, &restart) {
-        (Some(dir), None) => Some(RunOutput::create(
-            dir,
-            &scene.name,
-            vtk,
-            &observer.columns(),
-        )?),
+        (Some(dir), None) => Some(RunOutput::create(dir, &scene.name, vtk, &columns)?),
         (Some(dir), Some(progress)) => Some(
             RunOutput::resume(
                 dir,
                 &scene.name,
                 vtk,
-                &observer.columns(),
+                &columns,
                 (
                     progress.time,
                     progress.frames as usize,
@@ -318,6 +321,7 @@ fn run_in<const D: usize>(
             escaped as Real,
         ]);
         observer.sample(time, fluid, &mut row);
+        probes.sample(fluid, &mut row);
         if let Some(output) = output {
             output.sample(&row)?;
         }

@@ -85,6 +85,9 @@ pub struct OutputSpec {
     pub sample_interval: Real,
     /// Write VTU frames (default true).
     pub vtk: bool,
+    /// Pressure probes, sampled with the diagnostics (default none): one column
+    /// `p_<name>` (Pa) each in `diagnostics.csv`.
+    pub probes: Vec<ProbeSpec>,
 }
 
 impl Default for OutputSpec {
@@ -93,8 +96,21 @@ impl Default for OutputSpec {
             interval: 0.05,
             sample_interval: 0.005,
             vtk: true,
+            probes: Vec::new(),
         }
     }
+}
+
+/// A pressure probe: the fluid's pressure interpolated at a fixed point, as a pressure gauge
+/// of an experiment reads it (Shepard-normalised kernel interpolation over the fluid
+/// particles within the kernel's support; empty, NaN, when there are none).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec {
+    /// Column name (letters, digits, '-', '_' or '.'), written as `p_<name>`.
+    pub name: String,
+    /// Where, in m (one coordinate per dimension).
+    pub position: Vec<Real>,
 }
 
 /// An explicit domain box.

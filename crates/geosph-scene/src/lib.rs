@@ -43,7 +43,8 @@ pub mod setup;
 pub mod validate;
 
 pub use format::{
-    FluidSpec, HealthSpec, InitialVelocity, OutputSpec, Region, Scene, SolverSpec, WallSpec,
+    FluidSpec, HealthSpec, InitialVelocity, OutputSpec, ProbeSpec, Region, Scene, SolverSpec,
+    WallSpec,
 };
 pub use setup::{Setup, build};
 pub use validate::SceneError;

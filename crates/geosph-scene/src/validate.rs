@@ -129,6 +129,49 @@ fn boxed(field: &str, min: &[Real], max: &[Real], dimension: usize) -> Result<()
 }
 
 impl Scene {
+    /// Probe names usable as CSV columns and unique; positions in the scene's dimension; a
+    /// fluid that carries pressure.
+    fn validate_probes(&self, dimension: usize) -> Result<(), SceneError> {
+        let probes = &self.output.probes;
+        if !probes.is_empty() && matches!(self.solver, SolverSpec::Soil(_)) {
+            return Err(fail(
+                "output.probes",
+                "pressure probes need a fluid solver (wcsph, pcisph, iisph or dfsph); \
+                 soil particles carry stress, not pressure",
+            ));
+        }
+        for (k, probe) in probes.iter().enumerate() {
+            let name_ok = !probe.name.is_empty()
+                && probe.name.len() <= MAX_NAME_LENGTH
+                && probe
+                    .name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+            if !name_ok {
+                return Err(fail(
+                    format!("output.probes[{k}].name"),
+                    format!(
+                        "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.', \
+                         as it names a CSV column; got {:?}",
+                        probe.name
+                    ),
+                ));
+            }
+            if probes[..k].iter().any(|other| other.name == probe.name) {
+                return Err(fail(
+                    format!("output.probes[{k}].name"),
+                    format!("must be unique, {:?} is used twice", probe.name),
+                ));
+            }
+            point(
+                &format!("output.probes[{k}].position"),
+                &probe.position,
+                dimension,
+            )?;
+        }
+        Ok(())
+    }
+
     /// Checks every value against its allowed range; the first violation is returned with the
     /// field's path, the allowed range and the value.
     pub fn validate(&self) -> Result<(), SceneError> {
@@ -186,6 +229,7 @@ impl Scene {
                 ));
             }
         }
+        self.validate_probes(dimension)?;
         if let Some(domain) = &self.domain {
             boxed("domain", &domain.min, &domain.max, dimension)?;
             if !domain.periodic.is_empty() && domain.periodic.len() != dimension {

@@ -1,0 +1,94 @@
+//! Pressure probes: the fluid's pressure at fixed points, sampled with the diagnostics.
+
+use geosph_core::{Particles, Real, Vector};
+use geosph_kernels::shepard::shepard_interpolation;
+use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
+use geosph_scene::ProbeSpec;
+
+/// Pressure gauges at fixed points (the scene's `output.probes`): at each sample, the Shepard
+/// interpolant (Shepard 1968) of the particle pressures at each probe,
+///
+/// p(x) = Σ_j p_j V_j W(|x − x_j|) / Σ_j V_j W(|x − x_j|),  V_j = m_j / ρ_j,
+///
+/// over the fluid particles within the kernel's support of x, with the scene's kernel and
+/// smoothing length; NaN where there is no fluid particle within it. Like the gauge of an
+/// experiment, a probe averages over a finite area (radius 2h), so it does not read the
+/// particle-scale alternation of the incompressible solvers' pressure
+/// (`docs/incompressible.md`, "Still water"). A probe on a wall's face reads the fluid beside
+/// it: the support is cut by the wall, so the value is that of the particles within it,
+/// on average about h/2 from the face.
+pub struct PressureProbes<const D: usize> {
+    columns: Vec<String>,
+    positions: Vec<Vector<D>>,
+    kernel: KernelKind,
+    smoothing_length: Real,
+    /// V_j of the last sample, kept to avoid an allocation per sample.
+    volume: Vec<Real>,
+}
+
+impl<const D: usize> PressureProbes<D> {
+    /// The probes of a validated scene (positions with D coordinates) with the scene's
+    /// kernel and smoothing length.
+    pub fn new(probes: &[ProbeSpec], kernel: KernelKind, smoothing_length: Real) -> Self {
+        Self {
+            columns: probes.iter().map(|p| format!("p_{}", p.name)).collect(),
+            positions: probes
+                .iter()
+                .map(|p| Vector::<D>::from_iterator(p.position.iter().copied()))
+                .collect(),
+            kernel,
+            smoothing_length,
+            volume: Vec::new(),
+        }
+    }
+
+    /// The CSV column of each probe, `p_<name>`.
+    pub fn columns(&self) -> &[String] {
+        &self.columns
+    }
+
+    /// Appends each probe's pressure (Pa) to `row`; NaN for a probe without fluid nearby, and
+    /// for all when the fluid carries no pressure.
+    pub fn sample(&mut self, fluid: &Particles<D>, row: &mut Vec<Real>) {
+        if self.positions.is_empty() {
+            return;
+        }
+        let Some(pressure) = fluid.pressure.as_deref() else {
+            row.extend(self.positions.iter().map(|_| Real::NAN));
+            return;
+        };
+        self.volume.clear();
+        self.volume.extend(
+            fluid
+                .mass
+                .iter()
+                .zip(&fluid.density)
+                .map(|(m, rho)| m / rho),
+        );
+        for x in &self.positions {
+            let probe = Probe {
+                x,
+                position: &fluid.position,
+                volume: &self.volume,
+                pressure,
+            };
+            let value = self.kernel.dispatch(self.smoothing_length, probe);
+            row.push(value.unwrap_or(Real::NAN));
+        }
+    }
+}
+
+/// One probe's interpolation, run with whichever kernel the scene names.
+struct Probe<'a, const D: usize> {
+    x: &'a Vector<D>,
+    position: &'a [Vector<D>],
+    volume: &'a [Real],
+    pressure: &'a [Real],
+}
+
+impl<const D: usize> KernelVisitor<D> for Probe<'_, D> {
+    type Output = Option<Real>;
+    fn visit<K: Kernel<D>>(self, kernel: K) -> Option<Real> {
+        shepard_interpolation(&kernel, self.x, self.position, self.volume, self.pressure)
+    }
+}
