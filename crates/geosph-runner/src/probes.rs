@@ -14,9 +14,8 @@ use geosph_scene::ProbeSpec;
 /// smoothing length; NaN where there is no fluid particle within it. Like the gauge of an
 /// experiment, a probe averages over a finite area (radius 2h), so it does not read the
 /// particle-scale alternation of the incompressible solvers' pressure
-/// (`docs/incompressible.md`, "Still water"). A probe on a wall's face reads the fluid beside
-/// it: the support is cut by the wall, so the value is that of the particles within it,
-/// on average about h/2 from the face.
+/// (`docs/incompressible.md`, "Still water"). A probe on a wall's face averages only the
+/// fluid on its side of the wall, so it reads the pressure somewhat away from the face.
 pub struct PressureProbes<const D: usize> {
     columns: Vec<String>,
     positions: Vec<Vector<D>>,

@@ -69,6 +69,16 @@ fn in_range(field: &str, value: Real, low: Real, high: Real) -> Result<(), Scene
     }
 }
 
+/// 1 to [`MAX_NAME_LENGTH`] ASCII letters, digits, '-', '_' or '.': safe in a file name and
+/// in a CSV header.
+fn plain_name(name: &str) -> bool {
+    !name.is_empty()
+        && name.len() <= MAX_NAME_LENGTH
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
+}
+
 fn point(field: &str, values: &[Real], dimension: usize) -> Result<(), SceneError> {
     if values.len() != dimension {
         return Err(fail(
@@ -141,13 +151,7 @@ impl Scene {
             ));
         }
         for (k, probe) in probes.iter().enumerate() {
-            let name_ok = !probe.name.is_empty()
-                && probe.name.len() <= MAX_NAME_LENGTH
-                && probe
-                    .name
-                    .chars()
-                    .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
-            if !name_ok {
+            if !plain_name(&probe.name) {
                 return Err(fail(
                     format!("output.probes[{k}].name"),
                     format!(
@@ -176,14 +180,7 @@ impl Scene {
     /// field's path, the allowed range and the value.
     pub fn validate(&self) -> Result<(), SceneError> {
         let dimension = self.dimension;
-        let name_ok = !self.name.is_empty()
-            && self.name.len() <= MAX_NAME_LENGTH
-            && !self.name.starts_with('.')
-            && self
-                .name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
-        if !name_ok {
+        if !plain_name(&self.name) || self.name.starts_with('.') {
             return Err(fail(
                 "name",
                 format!(
