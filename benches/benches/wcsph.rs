@@ -9,11 +9,12 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use geosph_fluid::{FluidSolver, build_wcsph};
+use geosph_fluid::build_wcsph;
 use geosph_scene::{Scene, SolverSpec};
+use geosph_sph::Solver;
 
 /// The dam break at spacing `dx`, advanced to t = 0.05 s.
-fn dam_break(dx: f64) -> (Box<dyn FluidSolver<2>>, geosph_core::Particles<2>, f64) {
+fn dam_break(dx: f64) -> (Box<dyn Solver<2>>, geosph_core::Particles<2>, f64) {
     let mut scene = Scene::from_ron(include_str!("../../data/scenes/dam-break-2d.ron")).unwrap();
     scene.dx = dx;
     let (mut fluid, solver_inputs) = geosph_scene::build::<2>(&scene).unwrap().split();

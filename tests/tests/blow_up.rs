@@ -6,11 +6,11 @@
 use std::path::{Path, PathBuf};
 
 use geosph_core::{Particles, Real, Vector};
-use geosph_fluid::FluidSolver;
 use geosph_runner::health::report::{FAILED_FILE, LAST_GOOD_FILE, REPORT_FILE};
 use geosph_runner::health::{self, LimitInputs, Limits, Quantity};
 use geosph_runner::{NoObserver, RunError, RunOptions, run};
 use geosph_scene::{Scene, SolverSpec};
+use geosph_sph::Solver;
 use vtkio::model::{Attribute, DataSet, Piece, Vtk};
 
 fn scratch(name: &str) -> PathBuf {
@@ -162,7 +162,7 @@ fn a_blow_up_without_output_folder_says_nothing_was_saved() {
 }
 
 /// A scene's particles, its solver and the run's limits, as the runner builds them.
-fn built<const D: usize>(scene: &Scene) -> (Particles<D>, Box<dyn FluidSolver<D>>, Limits<D>) {
+fn built<const D: usize>(scene: &Scene) -> (Particles<D>, Box<dyn Solver<D>>, Limits<D>) {
     let (mut fluid, inputs) = geosph_scene::build::<D>(scene).unwrap().split();
     let limit_inputs = LimitInputs::of(&inputs);
     let solver = match &scene.solver {
@@ -179,8 +179,8 @@ fn built<const D: usize>(scene: &Scene) -> (Particles<D>, Box<dyn FluidSolver<D>
 }
 
 /// A step report of a healthy step.
-fn healthy_step() -> geosph_fluid::StepReport {
-    geosph_fluid::StepReport {
+fn healthy_step() -> geosph_sph::StepReport {
+    geosph_sph::StepReport {
         dt: 1e-4,
         iterations: 1,
         ..Default::default()

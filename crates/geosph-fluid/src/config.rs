@@ -1,10 +1,14 @@
 //! Scene-level configuration of the fluid solvers, and the factory that builds a solver from
 //! it with every option resolved to a type.
 
-use geosph_boundary::{DummyAdami2012, Slip, WallParticles};
-use geosph_core::{Domain, Particles, Real, Vector};
-use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
+use geosph_boundary::{DummyAdami2012, Slip};
+use geosph_core::{Particles, Real};
+use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_neighbours::SearchError;
+use geosph_sph::lattice::{lattice_gradient_factor, lattice_kernel_sum};
+use geosph_sph::{
+    ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Solver, SphSetup, Viscosity,
+};
 use geosph_time::{Integrator, Scheme};
 use serde::{Deserialize, Serialize};
 
@@ -12,11 +16,10 @@ use crate::diffusion::{DeltaAntuono2010, DeltaMolteni2009, DensityDiffusion, NoD
 use crate::eos::{EosKind, EquationOfState};
 use crate::incompressible::{
     Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
-    WallPressure, lattice_gradient_factor, lattice_kernel_sum,
+    WallPressure,
 };
-use crate::solver::{FluidSolver, Wcsph};
-use crate::viscosity::{ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Viscosity};
 use crate::wcsph::{DensityMode, WcsphSystem};
+use crate::wcsph_solver::Wcsph;
 
 /// The viscous term of a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -198,33 +201,13 @@ pub enum IncompressibleMethod {
     Dfsph,
 }
 
-/// Everything a fluid solver needs besides its configuration.
-pub struct FluidSetup<const D: usize> {
-    /// The smoothing kernel's name.
-    pub kernel: KernelKind,
-    /// Smoothing length h.
-    pub smoothing_length: Real,
-    /// Domain.
-    pub domain: Domain<D>,
-    /// Rest density ρ₀.
-    pub rest_density: Real,
-    /// Reference sound speed c₀ (already resolved from `sound_speed` or the default rule).
-    pub sound_speed: Real,
-    /// Gravity.
-    pub gravity: Vector<D>,
-    /// Wall particles.
-    pub walls: WallParticles<D>,
-    /// Particle spacing dx.
-    pub spacing: Real,
-}
-
 /// Builds the WCSPH solver that `config` describes, monomorphised over the kernel, viscosity
 /// and diffusion it names.
 pub fn build_wcsph<const D: usize>(
     config: &WcsphConfig,
-    setup: FluidSetup<D>,
+    setup: SphSetup<D>,
     fluid: &mut Particles<D>,
-) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+) -> Result<Box<dyn Solver<D>>, SearchError> {
     let (kernel, h) = (setup.kernel, setup.smoothing_length);
     kernel.dispatch::<D, _>(
         h,
@@ -238,12 +221,12 @@ pub fn build_wcsph<const D: usize>(
 
 struct WcsphBuilder<'a, const D: usize> {
     config: &'a WcsphConfig,
-    setup: FluidSetup<D>,
+    setup: SphSetup<D>,
     fluid: &'a mut Particles<D>,
 }
 
 impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
-    type Output = Result<Box<dyn FluidSolver<D>>, SearchError>;
+    type Output = Result<Box<dyn Solver<D>>, SearchError>;
 
     fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
         let h = kernel.smoothing_length();
@@ -276,7 +259,7 @@ impl<const D: usize> WcsphBuilder<'_, D> {
         self,
         kernel: K,
         viscosity: V,
-    ) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+    ) -> Result<Box<dyn Solver<D>>, SearchError> {
         let h = kernel.smoothing_length();
         let c0 = self.setup.sound_speed;
         match self.config.diffusion {
@@ -301,7 +284,7 @@ impl<const D: usize> WcsphBuilder<'_, D> {
         kernel: K,
         viscosity: V,
         diffusion: F,
-    ) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+    ) -> Result<Box<dyn Solver<D>>, SearchError> {
         let config = self.config;
         let setup = self.setup;
         let eos = EquationOfState {
@@ -333,9 +316,9 @@ impl<const D: usize> WcsphBuilder<'_, D> {
             DensityConfig::Summation => DensityMode::Summation,
         };
         let integrator = Integrator::new(config.integrator, self.fluid.len(), false);
+        system.lists.reorder_every = config.reorder_every;
         let mut solver = Wcsph::new(system, integrator, self.fluid);
         solver.cfl = config.cfl;
-        solver.reorder_every = config.reorder_every;
         solver.shepard_every = config.shepard_every;
         Ok(Box::new(solver))
     }
@@ -346,9 +329,9 @@ impl<const D: usize> WcsphBuilder<'_, D> {
 pub fn build_incompressible<const D: usize>(
     method: IncompressibleMethod,
     config: &IncompressibleConfig,
-    setup: FluidSetup<D>,
+    setup: SphSetup<D>,
     fluid: &mut Particles<D>,
-) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+) -> Result<Box<dyn Solver<D>>, SearchError> {
     let (kernel, h) = (setup.kernel, setup.smoothing_length);
     kernel.dispatch::<D, _>(
         h,
@@ -364,12 +347,12 @@ pub fn build_incompressible<const D: usize>(
 struct IncompressibleBuilder<'a, const D: usize> {
     method: IncompressibleMethod,
     config: &'a IncompressibleConfig,
-    setup: FluidSetup<D>,
+    setup: SphSetup<D>,
     fluid: &'a mut Particles<D>,
 }
 
 impl<const D: usize> KernelVisitor<D> for IncompressibleBuilder<'_, D> {
-    type Output = Result<Box<dyn FluidSolver<D>>, SearchError>;
+    type Output = Result<Box<dyn Solver<D>>, SearchError>;
 
     fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
         match self.config.viscosity {
@@ -400,7 +383,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
         self,
         kernel: K,
         viscosity: V,
-    ) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+    ) -> Result<Box<dyn Solver<D>>, SearchError> {
         let config = self.config;
         let spacing = self.setup.spacing;
         match self.method {
@@ -430,7 +413,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
         kernel: K,
         viscosity: V,
         method: M,
-    ) -> Result<Box<dyn FluidSolver<D>>, SearchError> {
+    ) -> Result<Box<dyn Solver<D>>, SearchError> {
         let (config, setup) = (self.config, self.setup);
         let system = PressureSystem::new(
             kernel,
@@ -450,7 +433,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
             max_time_step: config.max_time_step,
         };
         let mut solver = Incompressible::new(system, method, settings, setup.spacing, self.fluid)?;
-        solver.reorder_every = config.reorder_every;
+        solver.system.lists.reorder_every = config.reorder_every;
         Ok(Box::new(solver))
     }
 }

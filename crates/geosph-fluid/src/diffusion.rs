@@ -5,7 +5,7 @@ use geosph_core::{Domain, Matrix, NeighbourList, Real, Vector};
 use geosph_kernels::{Kernel, cspm};
 use rayon::prelude::*;
 
-use crate::viscosity::Pair;
+use geosph_sph::Pair;
 
 /// A density-diffusion term D_i added to dρ_i/dt. The pair loop is monomorphised over it, so
 /// [`NoDiffusion`] costs nothing.

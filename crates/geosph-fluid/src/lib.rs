@@ -1,15 +1,13 @@
-//! Fluid solvers of geosph.
+//! Fluid solvers of geosph, on the shared SPH layer of `geosph-sph` (solver interface, pair
+//! lists, viscous terms).
 //!
 //! Modules:
 //! - [`eos`]: equations of state (Tait, linear) and their inverses.
-//! - [`viscosity`]: viscous terms as pair-loop type parameters: [`viscosity::Inviscid`],
-//!   Monaghan's artificial viscosity, Morris' laminar viscosity.
 //! - [`diffusion`]: δ-SPH density diffusion (Molteni & Colagrossi 2009, Antuono et al. 2010).
 //! - [`wcsph`]: the weakly compressible SPH system ([`WcsphSystem`]): symmetric momentum,
 //!   continuity or summation density, XSPH, Shepard re-initialisation, Adami walls.
 //! - [`incompressible`]: PCISPH, IISPH and DFSPH on shared operators ([`incompressible::PressureSystem`]).
-//! - [`solver`]: the [`FluidSolver`] trait the runner steps, and [`Wcsph`].
-//! - [`state`]: [`SolverState`], what a solver saves in a checkpoint to continue bitwise.
+//! - [`wcsph_solver`]: [`Wcsph`], the WCSPH system under an explicit integrator.
 //! - [`config`]: scene-level configuration ([`WcsphConfig`]) and [`build_wcsph`], which
 //!   resolves every option to a type once, so the hot loops carry no option flags.
 //!
@@ -21,7 +19,8 @@
 //! ```
 //! use geosph_boundary::generate;
 //! use geosph_core::{Domain, Particles, Vector};
-//! use geosph_fluid::{EosKind, EquationOfState, FluidSetup, WcsphConfig, build_wcsph};
+//! use geosph_fluid::{EosKind, EquationOfState, WcsphConfig, build_wcsph};
+//! use geosph_sph::{Solver, SphSetup};
 //! use geosph_kernels::KernelKind;
 //!
 //! // Tait: p = ρ₀c₀²/γ ((ρ/ρ₀)^γ − 1), 4.12 kPa for 1 % compression at c₀ = 20 m/s.
@@ -31,7 +30,7 @@
 //! let dx = 0.05;
 //! let (min, max) = (Vector::<2>::zeros(), Vector::<2>::new(0.5, 0.5));
 //! let mut water = Particles::at_rest(generate::fill_box(&min, &Vector::<2>::new(0.5, 0.25), dx), 1000.0 * dx * dx, 1000.0);
-//! let setup = FluidSetup {
+//! let setup = SphSetup {
 //!     kernel: KernelKind::WendlandC2,
 //!     smoothing_length: 1.3 * dx,
 //!     domain: Domain::new(Vector::<2>::repeat(-0.5), Vector::<2>::repeat(1.5))?,
@@ -55,16 +54,12 @@ pub mod config;
 pub mod diffusion;
 pub mod eos;
 pub mod incompressible;
-pub mod solver;
-pub mod state;
-pub mod viscosity;
 pub mod wcsph;
+pub mod wcsph_solver;
 
 pub use config::{
-    FluidSetup, IncompressibleConfig, IncompressibleMethod, WcsphConfig, build_incompressible,
-    build_wcsph,
+    IncompressibleConfig, IncompressibleMethod, WcsphConfig, build_incompressible, build_wcsph,
 };
 pub use eos::{EosKind, EquationOfState};
-pub use solver::{FluidSolver, SolverError, StepReport, Wcsph};
-pub use state::{SolverState, StateArrays, StateError};
 pub use wcsph::WcsphSystem;
+pub use wcsph_solver::Wcsph;

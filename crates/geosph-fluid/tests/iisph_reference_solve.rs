@@ -23,8 +23,8 @@ use geosph_fluid::incompressible::{
     Iisph, Incompressible, PressureMethod, PressureSolveSettings, PressureSystem, Scratch,
     WallPressure,
 };
-use geosph_fluid::viscosity::Inviscid;
 use geosph_kernels::{Kernel, WendlandC2};
+use geosph_sph::Inviscid;
 
 type System = PressureSystem<2, WendlandC2<2>, Inviscid>;
 

@@ -16,8 +16,8 @@ use std::str::FromStr;
 use std::time::Duration;
 
 use geosph_core::{Particles, Real, SoilFields};
-use geosph_fluid::{SolverState, StateArrays, StateError};
 use geosph_scene::Scene;
+use geosph_sph::{SolverState, StateArrays, StateError};
 use serde::{Deserialize, Serialize};
 
 /// Name of the checkpoint file in the output folder.

@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use geosph_core::Real;
-use geosph_fluid::SolverError;
 use geosph_scene::SceneError;
+use geosph_sph::SolverError;
 
 use crate::checkpoint::CheckpointError;
 use crate::health::{self, Diagnosis, report::BlowUpFiles};

@@ -3,7 +3,7 @@
 //! A particle with a finite position outside the domain on a non-periodic axis (a droplet
 //! thrown over a wall, a grain falling past the end of a slope) has left the simulation, as in
 //! DualSPHysics. [`Escapes`] removes it from the particles and, through
-//! [`FluidSolver::remove_particles`], from the solver's per-particle state, keeping the order
+//! [`Solver::remove_particles`], from the solver's per-particle state, keeping the order
 //! of the others (so a run stays the same for any number of threads), and counts it in the
 //! loop's [`Progress`]. It finds such particles
 //!
@@ -19,8 +19,8 @@
 //! what it throws out. A step in which nothing left costs one pass over the positions.
 
 use geosph_core::{Domain, Particles, Permutation, Real};
-use geosph_fluid::{FluidSolver, SolverError};
 use geosph_neighbours::SearchError;
+use geosph_sph::{Solver, SolverError};
 
 use crate::checkpoint::Progress;
 use crate::health::{self, Diagnosis, Limits, Scan};
@@ -62,7 +62,7 @@ impl Escapes {
     pub fn after_step<const D: usize>(
         &mut self,
         fluid: &mut Particles<D>,
-        solver: &mut dyn FluidSolver<D>,
+        solver: &mut dyn Solver<D>,
         limits: &mut Limits<D>,
         progress: &mut Progress,
         time: Real,
@@ -86,7 +86,7 @@ impl Escapes {
         error: &SolverError,
         fluid: &mut Particles<D>,
         last_good: &Particles<D>,
-        solver: &mut dyn FluidSolver<D>,
+        solver: &mut dyn Solver<D>,
         limits: &mut Limits<D>,
         progress: &mut Progress,
         time: Real,
@@ -158,7 +158,7 @@ impl Escapes {
         &self,
         count: usize,
         fluid: &mut Particles<D>,
-        solver: &mut dyn FluidSolver<D>,
+        solver: &mut dyn Solver<D>,
         limits: &mut Limits<D>,
         progress: &mut Progress,
         time: Real,

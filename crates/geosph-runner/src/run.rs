@@ -6,8 +6,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::{FluidSolver, IncompressibleMethod, build_incompressible, build_wcsph};
+use geosph_fluid::{IncompressibleMethod, build_incompressible, build_wcsph};
 use geosph_scene::{Scene, SolverSpec};
+use geosph_sph::Solver;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint::{
@@ -254,7 +255,7 @@ fn run_in<const D: usize>(
             Ok(built.solver)
         }
     };
-    let mut solver: Box<dyn FluidSolver<D>> = built.map_err(|source| RunError::Solver {
+    let mut solver: Box<dyn Solver<D>> = built.map_err(|source| RunError::Solver {
         time: 0.0,
         step: 0,
         source: source.into(),
@@ -301,7 +302,7 @@ fn run_in<const D: usize>(
     let mut row = Vec::new();
     let mut sample = |time: Real,
                       step: usize,
-                      report: &geosph_fluid::StepReport,
+                      report: &geosph_sph::StepReport,
                       escaped: u64,
                       fluid: &Particles<D>,
                       output: &mut Option<RunOutput>,
@@ -315,7 +316,7 @@ fn run_in<const D: usize>(
             kinetic_energy(fluid),
             report.density_error_mean,
             report.density_error_max,
-            geosph_fluid::solver::max_speed(&fluid.velocity),
+            geosph_sph::max_speed(&fluid.velocity),
             report.iterations as Real,
             report.divergence_iterations as Real,
             escaped as Real,
@@ -334,7 +335,7 @@ fn run_in<const D: usize>(
     let mut state = restart.unwrap_or_default();
     let first_step = state.steps as usize;
     if first_step == 0 {
-        let mut report = geosph_fluid::StepReport::default();
+        let mut report = geosph_sph::StepReport::default();
         for &rho in &fluid.density {
             let error = solver.density_error(rho);
             report.density_error_mean += error / fluid.len().max(1) as Real;
@@ -360,7 +361,7 @@ fn run_in<const D: usize>(
                    step: usize,
                    (time, last_good_time): (Real, Real),
                    (fluid, last_good): (&Particles<D>, &Particles<D>),
-                   solver: &dyn FluidSolver<D>,
+                   solver: &dyn Solver<D>,
                    limits: &Limits<D>,
                    output: &mut Option<RunOutput>| {
         bar.finish_and_clear();
@@ -403,7 +404,7 @@ fn run_in<const D: usize>(
         .map(|dir| dir.join(checkpoint::FILE_NAME));
     let save = |state: &Progress,
                 fluid: &Particles<D>,
-                solver: &dyn FluidSolver<D>,
+                solver: &dyn Solver<D>,
                 observer: &dyn Observer<D>| {
         Checkpoint {
             scene: scene.name.clone(),

@@ -3,8 +3,8 @@
 use geosph_boundary::{WallParticles, generate};
 use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_fluid::EquationOfState;
-use geosph_fluid::config::FluidSetup;
 use geosph_kernels::KernelKind;
+use geosph_sph::SphSetup;
 
 use crate::format::{Region, Scene, SolverSpec, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity};
@@ -37,8 +37,8 @@ pub struct Setup<const D: usize> {
 
 impl<const D: usize> Setup<D> {
     /// The fluid particles, and the rest as the inputs of a fluid solver.
-    pub fn split(self) -> (Particles<D>, FluidSetup<D>) {
-        let solver_inputs = FluidSetup {
+    pub fn split(self) -> (Particles<D>, SphSetup<D>) {
+        let solver_inputs = SphSetup {
             kernel: self.kernel,
             smoothing_length: self.smoothing_length,
             domain: self.domain,

@@ -22,8 +22,10 @@
 //! - [`element`]: the single-material-point element-test driver (simple shear, oedometer,
 //!   drained triaxial compression, any velocity gradient) returning the (p, q) stress path,
 //!   with CSV output.
-//! - [`sph`]: the SPH coupling — soil particles, soil walls, the geostatic stage and the solver
-//!   the runner steps ([`build_soil`] from a scene's [`SoilConfig`]).
+//! - `sph` (feature `sph`, off by default): the SPH coupling — soil particles, soil walls, the
+//!   geostatic stage and the solver the runner steps (`build_soil` from a scene's
+//!   `SoilConfig`), on the shared SPH layer of `geosph-sph`. Without it the crate is the
+//!   constitutive core alone and depends on no SPH code.
 //!
 //! The Drucker–Prager return map on one stress, without SPH:
 //!
@@ -54,6 +56,7 @@ pub mod element;
 pub mod invariants;
 pub mod kinematics;
 pub mod material;
+#[cfg(feature = "sph")]
 pub mod sph;
 
 pub use constitutive::{Constitutive, ConstitutiveConfig, Response, SoilModel, StressUpdate};
@@ -63,4 +66,5 @@ pub use element::{
     ElementTest, ElementTestError, LoadingPath, PathPoint, run_element_test, write_csv,
 };
 pub use material::{DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial};
+#[cfg(feature = "sph")]
 pub use sph::{GeostaticReport, SoilBuild, SoilConfig, SoilError, build_soil};

@@ -6,8 +6,8 @@ use rayon::prelude::*;
 
 use super::system::MIN_LEN;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
-use crate::state::{StateArrays, StateError};
-use crate::viscosity::Viscosity;
+use geosph_sph::Viscosity;
+use geosph_sph::{StateArrays, StateError};
 
 /// DFSPH: two velocity-space solvers that share the per-particle factor α_i = ρ_i / d_i
 /// (Bender & Koschier 2017, IEEE TVCG 23:1193, eq. 9, with d_i of

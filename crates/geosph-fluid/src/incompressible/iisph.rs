@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::system::MIN_LEN;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
-use crate::viscosity::Viscosity;
+use geosph_sph::Viscosity;
 
 /// IISPH: the pressure Poisson equation from the continuity equation,
 ///

@@ -16,28 +16,27 @@
 
 mod dfsph;
 mod iisph;
-mod pairs;
 mod pcisph;
 mod system;
 
 pub use dfsph::Dfsph;
 pub use iisph::Iisph;
 pub use pcisph::Pcisph;
-pub use system::{
-    DIAGONAL_FLOOR, PressureSystem, WallPressure, lattice_gradient_factor,
-    lattice_gradient_squares, lattice_jacobi_bound, lattice_kernel_sum,
-};
+pub use system::{DIAGONAL_FLOOR, PressureSystem, WallPressure};
 
 use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Permutation, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
+use geosph_sph::lattice::{
+    lattice_gradient_factor, lattice_gradient_squares, lattice_jacobi_bound, lattice_kernel_sum,
+};
+use geosph_sph::{
+    Solver, SolverError, SolverState, StateArrays, StateError, StepReport, Viscosity, compression,
+    event_step, max_speed,
+};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-
-use crate::solver::{FluidSolver, SolverError, StepReport, event_step};
-use crate::state::{SolverState, StateArrays, StateError};
-use crate::viscosity::Viscosity;
 
 /// Iteration controls and time-step rule shared by the incompressible solvers.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -161,8 +160,6 @@ pub struct Incompressible<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: Pres
     pub settings: PressureSolveSettings,
     /// Particle spacing dx (for the CFL rule).
     pub spacing: Real,
-    /// Steps between Z-order sorts (0: never).
-    pub reorder_every: usize,
     scratch: Scratch<D>,
     previous_velocity: Vec<Vector<D>>,
     max_acceleration: Real,
@@ -182,7 +179,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
     ) -> Result<Self, SearchError> {
         fluid.enable_pressure();
         // Masses and wall volumes for which the initial lattice is at ρ₀ exactly.
-        let cell = 1.0 / system::lattice_kernel_sum(&system.kernel, spacing);
+        let cell = 1.0 / lattice_kernel_sum(&system.kernel, spacing);
         let scale = cell / spacing.powi(D as i32);
         fluid.mass.iter_mut().for_each(|m| *m *= scale);
         system.walls.volume.iter_mut().for_each(|v| *v *= scale);
@@ -190,7 +187,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
         system.jacobi_bound = lattice_jacobi_bound(&system.kernel, spacing);
         system.lattice_gradient_squares = lattice_gradient_squares(&system.kernel, spacing);
         let mut method = method;
-        let permutation = system.sort(fluid)?;
+        let permutation = system.lists.sort(fluid)?;
         method.permute(&permutation);
         system.update(fluid)?;
         let mut scratch = Scratch::default();
@@ -201,7 +198,6 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
             method,
             settings,
             spacing,
-            reorder_every: 100,
             scratch,
             previous_velocity: vec![Vector::zeros(); fluid.len()],
             steps: 0,
@@ -213,7 +209,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
     /// `max_time_step`.
     fn stable_step(&self, fluid: &Particles<D>) -> Real {
         let reach = self.settings.cfl * self.spacing;
-        let speed = crate::solver::max_speed(&fluid.velocity);
+        let speed = max_speed(&fluid.velocity);
         let acceleration = self.max_acceleration;
         let mut dt = if acceleration > 0.0 {
             (-speed + (speed * speed + 2.0 * acceleration * reach).sqrt()) / acceleration
@@ -234,7 +230,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
     }
 }
 
-impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> FluidSolver<D>
+impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> Solver<D>
     for Incompressible<D, K, V, M>
 {
     fn name(&self) -> &'static str {
@@ -275,12 +271,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> FluidS
             });
 
         self.steps += 1;
-        if self.reorder_every > 0 && self.steps % self.reorder_every == 0 {
-            if self.system.domain.is_periodic() {
-                let domain = &self.system.domain;
-                fluid.position.iter_mut().for_each(|x| domain.wrap(x));
-            }
-            let permutation = self.system.sort(fluid)?;
+        if let Some(permutation) = self.system.lists.sort_if_due(self.steps, fluid)? {
             self.method.permute(&permutation);
         }
         self.system.update(fluid)?;
@@ -352,19 +343,6 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> FluidS
         self.steps = steps;
         Ok(())
     }
-}
-
-/// Mean and maximum of the relative compression max(ρ/ρ₀ − 1, 0), summed in index order.
-/// Only compression counts: particles at a free surface have an incomplete kernel sum and a
-/// smaller density, which is not an error of the pressure solve.
-pub fn compression(density: &[Real], rest_density: Real) -> (Real, Real) {
-    let (sum, max) = density
-        .iter()
-        .fold((0.0, 0.0), |(sum, max): (Real, Real), rho| {
-            let error = (rho / rest_density - 1.0).max(0.0);
-            (sum + error, max.max(error))
-        });
-    (sum / density.len().max(1) as Real, max)
 }
 
 /// Mean of the positive entries of `values`, summed in index order, and the largest entry

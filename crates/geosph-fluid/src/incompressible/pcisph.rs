@@ -5,9 +5,9 @@ use geosph_kernels::Kernel;
 use rayon::prelude::*;
 
 use super::iisph::{StopOn, relaxed_jacobi};
-use super::system::lattice_gradient_squares;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
-use crate::viscosity::Viscosity;
+use geosph_sph::Viscosity;
+use geosph_sph::lattice::lattice_gradient_squares;
 
 /// PCISPH: starting from p = 0, predict the density, correct every pressure by
 ///

@@ -3,13 +3,12 @@
 //! pressure system.
 
 use geosph_boundary::WallParticles;
-use geosph_core::{Domain, NeighbourList, Particles, Permutation, Real, Vector};
+use geosph_core::{Domain, NeighbourList, Particles, Real, Vector};
 use geosph_kernels::Kernel;
-use geosph_neighbours::{CellGrid, SearchError};
+use geosph_neighbours::SearchError;
+use geosph_sph::pair_arrays::{ParticleView, for_each_particle};
+use geosph_sph::{Pair, PairLists, Viscosity};
 use rayon::prelude::*;
-
-use crate::incompressible::pairs::{ParticleView, for_each_particle};
-use crate::viscosity::{Pair, Viscosity};
 
 /// How walls take part in the pressure force.
 ///
@@ -49,14 +48,15 @@ pub const DIAGONAL_FLOOR: Real = 1e-3;
 /// Particle-pair data of one step: neighbour lists, kernel gradients, and the sums the
 /// pressure solvers need, for a fluid with fixed or moving dummy walls.
 ///
-/// Lists are rebuilt exactly (no Verlet skin) after every position update: the incompressible
-/// solvers iterate many times over them per step, so a list without empty pairs pays off, and
-/// ∇_i W_ij is stored per pair so that each iteration reads it instead of recomputing it.
+/// Lists are exact ([`PairLists`] without a skin) and rebuilt after every position update: the
+/// incompressible solvers iterate many times over them per step, so a list without empty pairs
+/// pays off, and ∇_i W_ij is stored per pair so that each iteration reads it instead of
+/// recomputing it.
 pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
     /// Smoothing kernel.
     pub kernel: K,
-    /// Domain (periodic axes, minimum image).
-    pub domain: Domain<D>,
+    /// Fluid–fluid and fluid–wall pairs (exact), with the Z-order schedule.
+    pub lists: PairLists<D>,
     /// Rest density ρ₀.
     pub rest_density: Real,
     /// Viscous term.
@@ -78,13 +78,9 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
     /// Σ_k |∇W(x_k)|² over a filled lattice of the spacing (set by the solvers; 0: no floor),
     /// which scales the floor of the diagonal ([`PressureSystem::diagonal`]).
     pub lattice_gradient_squares: Real,
-    fluid_grid: CellGrid<D>,
-    wall_grid: CellGrid<D>,
-    fluid_fluid: NeighbourList,
-    fluid_wall: NeighbourList,
-    /// ∇_i W_ij per listed fluid pair, aligned with `fluid_fluid.indices`.
+    /// ∇_i W_ij per listed fluid pair, aligned with the inner list's indices.
     fluid_gradient: Vec<Vector<D>>,
-    /// ∇_i W_ib per listed wall pair, aligned with `fluid_wall.indices`.
+    /// ∇_i W_ib per listed wall pair, aligned with the contact list's indices.
     wall_gradient: Vec<Vector<D>>,
     /// Σ_b m_b ∇_i W_ib of each fluid particle.
     wall_gradient_sum: Vec<Vector<D>>,
@@ -103,13 +99,10 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         walls: WallParticles<D>,
         wall_pressure: WallPressure,
     ) -> Result<Self, SearchError> {
-        let radius = kernel.support_radius();
-        let fluid_grid = CellGrid::new(domain.clone(), radius)?;
-        let mut wall_grid = CellGrid::new(domain.clone(), radius)?;
-        wall_grid.build(&walls.position)?;
+        let lists = PairLists::new(domain, kernel.support_radius(), 0.0, &walls.position, false)?;
         Ok(Self {
             kernel,
-            domain,
+            lists,
             rest_density,
             viscosity,
             gravity,
@@ -118,10 +111,6 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             gradient_correction: 1.0,
             jacobi_bound: 0.0,
             lattice_gradient_squares: 0.0,
-            fluid_grid,
-            wall_grid,
-            fluid_fluid: NeighbourList::new(),
-            fluid_wall: NeighbourList::new(),
             fluid_gradient: Vec::new(),
             wall_gradient: Vec::new(),
             wall_gradient_sum: Vec::new(),
@@ -142,40 +131,19 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         }
     }
 
-    /// The fluid–fluid neighbour list of the last update.
-    pub fn fluid_neighbours(&self) -> &NeighbourList {
-        &self.fluid_fluid
-    }
-
-    /// Sorts `fluid` in Z order; returns the permutation so solvers can reorder their own
-    /// per-particle arrays. The lists must be rebuilt afterwards.
-    pub fn sort(&mut self, fluid: &mut Particles<D>) -> Result<Permutation, SearchError> {
-        self.fluid_grid.build(&fluid.position)?;
-        let permutation = self.fluid_grid.z_order(&fluid.position)?;
-        fluid.permute(&permutation);
-        Ok(permutation)
-    }
-
     /// Rebuilds the neighbour lists and per-pair gradients for the current positions, then the
     /// summation density ρ_i = Σ_j m_j W_ij + Σ_b ρ₀ V_b W_ib and the diagonal d_i.
     pub fn update(&mut self, fluid: &mut Particles<D>) -> Result<(), SearchError> {
-        if self.domain.is_periodic() {
-            let domain = &self.domain;
-            fluid.position.par_iter_mut().for_each(|x| domain.wrap(x));
-        }
-        self.fluid_grid.build(&fluid.position)?;
-        self.fluid_grid
-            .neighbour_list(&fluid.position, &fluid.position, &mut self.fluid_fluid);
-        self.wall_grid
-            .neighbour_list(&self.walls.position, &fluid.position, &mut self.fluid_wall);
-
+        self.lists
+            .update(&mut fluid.position, &self.walls.position)?;
+        let (fluid_fluid, fluid_wall) = (self.lists.inner(), self.lists.contact());
         self.fluid_gradient
-            .resize(self.fluid_fluid.pair_count(), Vector::zeros());
+            .resize(fluid_fluid.pair_count(), Vector::zeros());
         self.wall_gradient
-            .resize(self.fluid_wall.pair_count(), Vector::zeros());
+            .resize(fluid_wall.pair_count(), Vector::zeros());
         self.wall_gradient_sum.resize(fluid.len(), Vector::zeros());
         self.diagonal.resize(fluid.len(), 0.0);
-        let (kernel, domain, rho0) = (self.kernel, &self.domain, self.rest_density);
+        let (kernel, domain, rho0) = (self.kernel, self.lists.domain(), self.rest_density);
         let (walls, correction) = (&self.walls, self.gradient_correction);
         let floor = DIAGONAL_FLOOR * correction * self.lattice_gradient_squares;
         let Particles {
@@ -188,7 +156,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         // One pass: each particle's gradients ∇_i W_ij, its summation density and its diagonal
         // (which needs only the gradients), from one distance per pair.
         for_each_particle(
-            (&self.fluid_fluid, &self.fluid_wall),
+            (fluid_fluid, fluid_wall),
             &mut self.fluid_gradient,
             &mut self.wall_gradient,
             (
@@ -274,8 +242,12 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     /// [`Self::non_pressure_acceleration`] of particle `i`.
     #[inline]
     fn non_pressure_acceleration_at(&self, i: usize, fluid: &Particles<D>) -> Vector<D> {
-        let (kernel, domain, viscosity, gravity) =
-            (self.kernel, &self.domain, self.viscosity, self.gravity);
+        let (kernel, domain, viscosity, gravity) = (
+            self.kernel,
+            self.lists.domain(),
+            self.viscosity,
+            self.gravity,
+        );
         let walls = &self.walls;
         let rho0 = self.rest_density;
         let eta2 = 0.01 * kernel.smoothing_length().powi(2);
@@ -290,8 +262,8 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         let previous_pressure = pressure.as_deref().expect("pressure is enabled");
         let (x_i, v_i, rho_i) = (position[i], velocity[i], density[i]);
         let mut sum = gravity;
-        let (start, end) = range(&self.fluid_fluid, i);
-        for (&j, &grad) in self.fluid_fluid.indices[start..end]
+        let (start, end) = range(self.lists.inner(), i);
+        for (&j, &grad) in self.lists.inner().indices[start..end]
             .iter()
             .zip(&self.fluid_gradient[start..end])
         {
@@ -312,8 +284,8 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
                 mass_j: mass[j],
             });
         }
-        let (start, end) = range(&self.fluid_wall, i);
-        for (&b, &grad) in self.fluid_wall.indices[start..end]
+        let (start, end) = range(self.lists.contact(), i);
+        for (&b, &grad) in self.lists.contact().indices[start..end]
             .iter()
             .zip(&self.wall_gradient[start..end])
         {
@@ -369,9 +341,9 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         pressure_term: &[Real],
     ) -> Vector<D> {
         let term_i = pressure_term[i];
-        let (start, end) = range(&self.fluid_fluid, i);
+        let (start, end) = range(self.lists.inner(), i);
         let mut sum = self.wall_gradient_sum[i] * (2.0 * term_i);
-        for (&j, gradient) in self.fluid_fluid.indices[start..end]
+        for (&j, gradient) in self.lists.inner().indices[start..end]
             .iter()
             .zip(&self.fluid_gradient[start..end])
         {
@@ -409,17 +381,17 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
         wall: &[Vector<D>],
     ) -> Real {
         let u_i = field[i];
-        let (start, end) = range(&self.fluid_fluid, i);
+        let (start, end) = range(self.lists.inner(), i);
         let mut sum = 0.0;
-        for (&j, gradient) in self.fluid_fluid.indices[start..end]
+        for (&j, gradient) in self.lists.inner().indices[start..end]
             .iter()
             .zip(&self.fluid_gradient[start..end])
         {
             let j = j as usize;
             sum += mass[j] * (u_i - field[j]).dot(gradient);
         }
-        let (start, end) = range(&self.fluid_wall, i);
-        for (&b, gradient) in self.fluid_wall.indices[start..end]
+        let (start, end) = range(self.lists.contact(), i);
+        for (&b, gradient) in self.lists.contact().indices[start..end]
             .iter()
             .zip(&self.wall_gradient[start..end])
         {
@@ -438,215 +410,11 @@ fn range(list: &NeighbourList, i: usize) -> (usize, usize) {
     (list.offsets[i] as usize, list.offsets[i + 1] as usize)
 }
 
-/// Calls `visit(x)` for every point x = k·dx (k ∈ ℤ^D) of the lattice of `spacing` dx with
-/// |x| < `radius`, the origin included.
-pub(crate) fn for_each_lattice_offset<const D: usize>(
-    radius: Real,
-    spacing: Real,
-    mut visit: impl FnMut(Vector<D>),
-) {
-    let reach = (radius / spacing).ceil() as i64;
-    let mut index = [-reach; D];
-    loop {
-        let x = Vector::<D>::from_fn(|k, _| index[k] as Real * spacing);
-        if x.norm() < radius {
-            visit(x);
-        }
-        // The next point of the box [−reach, reach]^D, axis 0 fastest.
-        let mut axis = 0;
-        loop {
-            if axis == D {
-                return;
-            }
-            index[axis] += 1;
-            if index[axis] <= reach {
-                break;
-            }
-            index[axis] = -reach;
-            axis += 1;
-        }
-    }
-}
-
-/// The kernel sum Σ_k W(|k dx|) of a particle inside a filled lattice of spacing dx.
-///
-/// It differs from 1/dx^D by the kernel's discretisation error (+1.0 % for Wendland C2 with
-/// h = 1.3 dx in 2D, see the unit test), so a fluid of particles of mass ρ₀ dx^D on the
-/// lattice has a summation density off ρ₀ by as much. The incompressible solvers, whose
-/// density *is* the kernel sum, would start by pushing the lattice apart; they use the mass
-/// ρ₀ / Σ_k W instead (and the wall volume 1 / Σ_k W), for which the lattice is at rest.
-pub fn lattice_kernel_sum<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
-    let mut sum = 0.0;
-    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
-        sum += kernel.value(x.norm());
-    });
-    sum
-}
-
-/// The factor f of Σ_j V (x_j − x_i) ⊗ ∇_i W_ij = f I for a particle inside a filled lattice
-/// of spacing dx with V = 1 / Σ_k W(|k dx|), the volume the incompressible solvers give it.
-///
-/// f = 1 would make the SPH gradient of a linear field exact; for Wendland C2 at h = 1.3 dx
-/// in 2D f = 0.964 (see the unit test), so a pressure force −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²)
-/// ∇_i W_ij holding still water up needs a pressure gradient 3.7 % steeper than ρ₀ g. The
-/// solvers multiply every pressure-gradient term by 1/f
-/// ([`PressureSystem::gradient_correction`]): a constant, so the pair forces stay
-/// antisymmetric and momentum is conserved, unlike a per-particle renormalisation
-/// (Randles & Libersky 1996), which is exact for any particle order but is not.
-pub fn lattice_gradient_factor<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
-    let volume = 1.0 / lattice_kernel_sum(kernel, spacing);
-    let mut sum = 0.0;
-    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
-        // x = x_j − x_i, so ∇_i W_ij = ∇W(−x).
-        sum += x.dot(&kernel.gradient(&-x));
-    });
-    volume * sum / D as Real
-}
-
-/// Σ_k |∇W(x_k)|² over a filled lattice of spacing dx: m² times it is the diagonal d of a
-/// particle of mass m inside the lattice (its G·S vanishes there), the scale of
-/// [`DIAGONAL_FLOOR`].
-pub fn lattice_gradient_squares<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
-    let mut squares = 0.0;
-    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
-        squares += kernel.gradient(&x).norm_squared();
-    });
-    squares
-}
-
-/// The largest eigenvalue λ_max of D⁻¹A for the pressure system A of a filled lattice of
-/// spacing dx, D its diagonal: the bound on the relaxation of a Jacobi iteration on it, which
-/// converges only for ω λ_max < 2.
-///
-/// On the lattice A is a convolution, so its eigenvectors are the Fourier modes p_j = e^{ik·x_j}
-/// and, with the pressure force of [`PressureSystem::pressure_acceleration`] and the
-/// continuity divergence, its eigenvalue over the diagonal is
-///
-/// λ(k) = |Σ_j sin(k·x_j) ∇W(x_j)|² / Σ_j |∇W(x_j)|²,
-///
-/// maximised here over k in the quarter [0, π/dx]^D of the Brillouin zone (λ is even in each
-/// component of k on a lattice symmetric under reflections), on a grid of 25 points per axis
-/// in 2D and 13 in 3D. For Wendland C2 at h = 1.3 dx in 2D λ_max = 2.60, so Ihmsen et al.'s
-/// ω = 0.5 is 65 % of the limit; for the quintic spline at the same h it is 4.11, and ω = 0.5
-/// diverges (see the unit test).
-pub fn lattice_jacobi_bound<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
-    let mut offsets = Vec::new();
-    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
-        offsets.push((x, kernel.gradient(&-x)));
-    });
-    let squares = lattice_gradient_squares(kernel, spacing);
-    let points = if D <= 2 { 25 } else { 13 };
-    let step = std::f64::consts::PI / (spacing * (points - 1) as Real);
-    let mut largest: Real = 0.0;
-    let mut index = [0usize; D];
-    loop {
-        let k = Vector::<D>::from_fn(|axis, _| index[axis] as Real * step);
-        let sum = offsets
-            .iter()
-            .fold(Vector::<D>::zeros(), |sum, (x, gradient)| {
-                sum + gradient * k.dot(x).sin()
-            });
-        largest = largest.max(sum.norm_squared() / squares);
-        // The next grid point, axis 0 fastest.
-        let mut axis = 0;
-        loop {
-            if axis == D {
-                return largest;
-            }
-            index[axis] += 1;
-            if index[axis] < points {
-                break;
-            }
-            index[axis] = 0;
-            axis += 1;
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use geosph_kernels::{CubicSpline, QuinticSpline, WendlandC2};
-
-    #[test]
-    fn lattice_sums_are_close_to_one_over_the_cell_volume() {
-        let dx: Real = 0.01;
-        for (name, sum) in [
-            (
-                "wendland-c2 2D",
-                lattice_kernel_sum::<2, _>(&WendlandC2::<2>::new(1.3 * dx), dx) * dx * dx,
-            ),
-            (
-                "cubic 2D",
-                lattice_kernel_sum::<2, _>(&CubicSpline::<2>::new(1.3 * dx), dx) * dx * dx,
-            ),
-            (
-                "wendland-c2 3D",
-                lattice_kernel_sum::<3, _>(&WendlandC2::<3>::new(1.3 * dx), dx) * dx.powi(3),
-            ),
-        ] {
-            println!("{name}: Σ W dx^D = {sum}");
-            assert!((sum - 1.0).abs() < 0.05, "{name}: {sum}");
-        }
-    }
-
-    /// The factor against a direct sum of the x-gradient of f(x) = x over a lattice, which
-    /// must tend to 1 as h/dx grows (0.9638 at 1.3, 0.9923 at 1.5, 0.9980 at 2.0 in 2D,
-    /// computed independently).
-    #[test]
-    fn lattice_gradient_factor_is_the_gradient_of_a_linear_field() {
-        let dx: Real = 0.01;
-        for (ratio, expected) in [(1.3, 0.9638), (1.5, 0.9923), (2.0, 0.9980)] {
-            let kernel = WendlandC2::<2>::new(ratio * dx);
-            let volume = 1.0 / lattice_kernel_sum::<2, _>(&kernel, dx);
-            let mut gradient = Vector::<2>::zeros();
-            for_each_lattice_offset::<2>(kernel.support_radius(), dx, |x| {
-                gradient += kernel.gradient(&-x) * (volume * x[0]);
-            });
-            let factor = lattice_gradient_factor::<2, _>(&kernel, dx);
-            assert!((gradient[0] - factor).abs() < 1e-12 && gradient[1].abs() < 1e-12);
-            assert!((factor - expected).abs() < 5e-4, "h = {ratio} dx: {factor}");
-        }
-    }
-
-    /// λ_max against an independent computation (NumPy, 121 × 121 wave vectors over the whole
-    /// zone): 2.602 Wendland C2 and 2.880 cubic spline at h = 1.3 dx, 5.676 Wendland C2 at
-    /// h = 2 dx, 4.114 quintic spline at h = 1.3 dx (2D).
-    #[test]
-    fn lattice_jacobi_bound_matches_the_fourier_symbol() {
-        let dx: Real = 0.01;
-        for (name, bound, expected) in [
-            (
-                "wendland-c2 1.3",
-                lattice_jacobi_bound::<2, _>(&WendlandC2::<2>::new(1.3 * dx), dx),
-                2.602,
-            ),
-            (
-                "cubic 1.3",
-                lattice_jacobi_bound::<2, _>(&CubicSpline::<2>::new(1.3 * dx), dx),
-                2.880,
-            ),
-            (
-                "wendland-c2 2.0",
-                lattice_jacobi_bound::<2, _>(&WendlandC2::<2>::new(2.0 * dx), dx),
-                5.676,
-            ),
-            (
-                "quintic 1.3",
-                lattice_jacobi_bound::<2, _>(&QuinticSpline::<2>::new(1.3 * dx), dx),
-                4.114,
-            ),
-        ] {
-            println!("{name}: λ_max = {bound:.4}");
-            assert!(
-                (bound - expected).abs() < 0.01 * expected,
-                "{name}: {bound}"
-            );
-        }
-        let bound_3d = lattice_jacobi_bound::<3, _>(&WendlandC2::<3>::new(1.3 * dx), dx);
-        println!("wendland-c2 1.3 3D: λ_max = {bound_3d:.4}");
-        assert!(bound_3d > 1.0 && bound_3d < 10.0);
-    }
+    use geosph_core::{Real, Vector};
+    use geosph_kernels::{CubicSpline, Kernel, QuinticSpline, WendlandC2};
+    use geosph_sph::lattice::for_each_lattice_offset;
 
     /// |Σ_j (p_i + p_j) ∇_i W_ij| over a filled lattice for p_j = (−1)^(row of j) (p_i = 1 at
     /// row 0) and for p_j = row of j (p_i = 0).

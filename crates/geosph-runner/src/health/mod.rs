@@ -21,9 +21,9 @@ pub mod report;
 pub mod scan;
 
 use geosph_core::{Domain, Particles, Real, Vector};
-use geosph_fluid::config::FluidSetup;
-use geosph_fluid::{FluidSolver, SolverError, StepReport};
 use geosph_neighbours::SearchError;
+use geosph_sph::SphSetup;
+use geosph_sph::{Solver, SolverError, StepReport};
 
 pub use scan::Scan;
 
@@ -208,7 +208,7 @@ pub struct LimitInputs<const D: usize> {
 impl<const D: usize> LimitInputs<D> {
     /// The inputs a scene's solver is built from (before it consumes them); the sound speed is
     /// the scene's, replaced in [`Limits::new`] by the solver's when it has one.
-    pub fn of(setup: &FluidSetup<D>) -> Self {
+    pub fn of(setup: &SphSetup<D>) -> Self {
         Self {
             domain: setup.domain.clone(),
             gravity: setup.gravity,
@@ -222,8 +222,8 @@ impl<const D: usize> LimitInputs<D> {
 
 impl<const D: usize> Limits<D> {
     /// The limits of a run of `solver` starting from `fluid`: c is the solver's
-    /// [`FluidSolver::sound_speed`] when positive (WCSPH, soil), else `inputs.sound_speed`.
-    pub fn new(inputs: LimitInputs<D>, fluid: &Particles<D>, solver: &dyn FluidSolver<D>) -> Self {
+    /// [`Solver::sound_speed`] when positive (WCSPH, soil), else `inputs.sound_speed`.
+    pub fn new(inputs: LimitInputs<D>, fluid: &Particles<D>, solver: &dyn Solver<D>) -> Self {
         let LimitInputs {
             domain,
             gravity,
@@ -281,7 +281,7 @@ impl<const D: usize> Limits<D> {
 pub fn check<const D: usize>(
     report: &StepReport,
     fluid: &Particles<D>,
-    solver: &dyn FluidSolver<D>,
+    solver: &dyn Solver<D>,
     limits: &Limits<D>,
 ) -> Option<Diagnosis> {
     if !(report.dt.is_finite() && report.dt > 0.0) {

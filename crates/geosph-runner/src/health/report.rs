@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
-use geosph_fluid::FluidSolver;
+use geosph_sph::Solver;
 
 use super::{Diagnosis, Limits, OUTSIDE_ADVICE, Quantity};
 use crate::output::RunOutput;
@@ -65,7 +65,7 @@ pub struct BlowUpReport<'a, const D: usize> {
     /// Scene name.
     pub scene: &'a str,
     /// The solver (its name and advice, the density error it controls).
-    pub solver: &'a dyn FluidSolver<D>,
+    pub solver: &'a dyn Solver<D>,
     /// What went wrong.
     pub diagnosis: &'a Diagnosis,
     /// The failed step (1 is the first step of the run).
@@ -324,7 +324,7 @@ impl<const D: usize> BlowUpReport<'_, D> {
 }
 
 /// What a user can change, per quantity.
-fn advice<const D: usize>(quantity: Quantity, solver: &dyn FluidSolver<D>) -> String {
+fn advice<const D: usize>(quantity: Quantity, solver: &dyn Solver<D>) -> String {
     match quantity {
         Quantity::Position => OUTSIDE_ADVICE.to_owned(),
         Quantity::Stress => "the stress integration is unstable: lower `cfl`, raise the artificial viscosity, or check the elastic constants".to_owned(),

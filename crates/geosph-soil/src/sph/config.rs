@@ -2,10 +2,9 @@
 //! solver from it with every switchable term resolved to a type.
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::FluidSolver;
-use geosph_fluid::config::FluidSetup;
 use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_neighbours::SearchError;
+use geosph_sph::{Solver, SphSetup};
 use serde::{Deserialize, Serialize};
 
 use crate::constitutive::{Constitutive, ConstitutiveConfig};
@@ -267,13 +266,13 @@ pub enum SoilError {
     Search(#[from] SearchError),
     /// A step of the geostatic stage failed.
     #[error("geostatic stage: {0}")]
-    Step(#[from] geosph_fluid::SolverError),
+    Step(#[from] geosph_sph::SolverError),
 }
 
 /// A built soil solver and the report of its geostatic stage, if the scene had one.
 pub struct SoilBuild<const D: usize> {
-    /// The solver, stepped by the runner like a fluid solver.
-    pub solver: Box<dyn FluidSolver<D>>,
+    /// The solver, stepped by the runner like any other.
+    pub solver: Box<dyn Solver<D>>,
     /// What the geostatic stage reached.
     pub geostatic: Option<GeostaticReport>,
 }
@@ -283,7 +282,7 @@ pub struct SoilBuild<const D: usize> {
 /// stress, and runs the geostatic stage if the configuration has one.
 pub fn build_soil<const D: usize>(
     config: &SoilConfig,
-    setup: FluidSetup<D>,
+    setup: SphSetup<D>,
     particles: &mut Particles<D>,
 ) -> Result<SoilBuild<D>, SoilError> {
     config.validate()?;
@@ -300,7 +299,7 @@ pub fn build_soil<const D: usize>(
 
 struct SoilBuilder<'a, const D: usize> {
     config: &'a SoilConfig,
-    setup: FluidSetup<D>,
+    setup: SphSetup<D>,
     particles: &'a mut Particles<D>,
 }
 
@@ -367,7 +366,8 @@ impl<const D: usize> SoilBuilder<'_, D> {
             config.neighbour_skin,
         )?;
         system.set_velocity_gradient_correction(config.velocity_gradient_correction);
-        let mut solver = SoilSolver::new(system, config.cfl, config.reorder_every);
+        system.lists.reorder_every = config.reorder_every;
+        let mut solver = SoilSolver::new(system, config.cfl);
         solver.regularisation = config.regularisation;
         let geostatic = match &config.geostatic {
             Some(stage) => Some(run_geostatic_stage(&mut solver, self.particles, stage)?),

@@ -4,8 +4,8 @@
 use std::collections::HashMap;
 
 use geosph_core::{Particles, Real, Vector};
-use geosph_fluid::FluidSolver;
 use geosph_kernels::Kernel;
+use geosph_sph::Solver;
 use serde::{Deserialize, Serialize};
 
 use crate::sph::config::{ConfigError, SoilError, WallSlip};

@@ -40,7 +40,7 @@ pub fn regularise_stress<
     scratch: &mut RegularisationScratch<D>,
 ) {
     let n = soil.len();
-    let (kernel, domain, list) = (&system.kernel, &system.domain, system.soil_neighbours());
+    let (kernel, domain, list) = (&system.kernel, system.lists.domain(), system.lists.inner());
     scratch.volume.clear();
     scratch
         .volume

@@ -2,10 +2,10 @@
 
 use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
-use geosph_fluid::incompressible::compression;
-use geosph_fluid::solver::{event_step, max_speed};
-use geosph_fluid::{FluidSolver, SolverError, SolverState, StepReport};
 use geosph_kernels::Kernel;
+use geosph_sph::{
+    Solver, SolverError, SolverState, StepReport, compression, event_step, max_speed,
+};
 use geosph_time::{StepLimits, time_step};
 
 use crate::sph::config::RegularisationConfig;
@@ -25,8 +25,6 @@ pub struct SoilSolver<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: Tens
     pub system: SoilSystem<D, K, V, S>,
     /// Courant number C.
     pub cfl: Real,
-    /// Steps between Z-order sorts (0: never).
-    pub reorder_every: usize,
     /// Stress regularisation, if any.
     pub regularisation: Option<RegularisationConfig>,
     scratch: RegularisationScratch<D>,
@@ -37,11 +35,10 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
     SoilSolver<D, K, V, S>
 {
     /// A solver around `system`.
-    pub fn new(system: SoilSystem<D, K, V, S>, cfl: Real, reorder_every: usize) -> Self {
+    pub fn new(system: SoilSystem<D, K, V, S>, cfl: Real) -> Self {
         Self {
             system,
             cfl,
-            reorder_every,
             regularisation: None,
             scratch: RegularisationScratch::default(),
             steps: 0,
@@ -73,7 +70,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
     }
 }
 
-impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>> FluidSolver<D>
+impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>> Solver<D>
     for SoilSolver<D, K, V, S>
 {
     fn name(&self) -> &'static str {
@@ -86,16 +83,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         _time: Real,
         max_dt: Real,
     ) -> Result<StepReport, SolverError> {
-        if self.reorder_every > 0 && self.steps % self.reorder_every == 0 {
-            if self.system.domain.is_periodic() {
-                let domain = self.system.domain.clone();
-                soil.position.iter_mut().for_each(|x| domain.wrap(x));
-            }
-            let grid = self.system.soil_grid_for_sorting();
-            grid.build(&soil.position)?;
-            let permutation = grid.z_order(&soil.position)?;
-            soil.permute(&permutation);
-        }
+        self.system.lists.sort_if_due(self.steps, soil)?;
         let dt = event_step(self.stable_step(soil), max_dt);
         self.system.step(soil, dt)?;
         self.steps += 1;
@@ -155,7 +143,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         state
             .arrays
             .push_matrices("acceleration", self.system.acceleration());
-        if let Some(listed) = self.system.listed_positions() {
+        if let Some(listed) = self.system.lists.listed_positions() {
             state.arrays.push_matrices("listed_position", listed);
         }
         state

@@ -1,11 +1,11 @@
 //! The soil SPH system: kinematics, stress update and momentum of one explicit step.
 
 use geosph_boundary::{RepulsiveLiu2012, WallParticles};
-use geosph_core::{Domain, Matrix, NeighbourList, Particles, Real, Tensor3, Vector};
-use geosph_fluid::config::FluidSetup;
+use geosph_core::{Matrix, Particles, Real, Tensor3, Vector};
 use geosph_kernels::Kernel;
 use geosph_kernels::cspm::{MAX_CONDITION_NUMBER, well_conditioned_inverse};
-use geosph_neighbours::{CellGrid, SearchError};
+use geosph_neighbours::SearchError;
+use geosph_sph::{PairLists, SphSetup};
 use rayon::prelude::*;
 
 use crate::constitutive::{Constitutive, SoilModel};
@@ -42,8 +42,8 @@ const MIN_CHUNK: usize = 256;
 pub struct SoilSystem<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>> {
     /// Smoothing kernel.
     pub kernel: K,
-    /// Domain.
-    pub domain: Domain<D>,
+    /// Soil–soil, soil–wall and wall–soil pairs, with their Verlet skin and Z-order schedule.
+    pub lists: PairLists<D>,
     /// Constitutive model.
     pub model: SoilModel,
     /// Gravity g.
@@ -65,14 +65,6 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: Tens
     damping_rate: Real,
     /// Whether L_i is CSPM-corrected.
     correct_velocity_gradient: bool,
-    soil_grid: CellGrid<D>,
-    wall_grid: CellGrid<D>,
-    soil_soil: NeighbourList,
-    soil_wall: NeighbourList,
-    wall_soil: NeighbourList,
-    skin: Real,
-    listed_position: Vec<Vector<D>>,
-    lists_valid: bool,
     wall_stress: Vec<Tensor3>,
     wall_term: Vec<Matrix<D>>,
     velocity_gradient: Vec<Matrix<D>>,
@@ -85,13 +77,12 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: Tens
 impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
     SoilSystem<D, K, V, S>
 {
-    /// A system for the soil of `setup` (its `walls`, `domain`, `gravity`, `rest_density`).
-    ///
-    /// Neighbour lists use a Verlet skin of `skin_fraction` × support radius and are rebuilt
-    /// only after some particle moved more than half the skin (Verlet 1967).
+    /// A system for the soil of `setup` (its `walls`, `domain`, `gravity`, `rest_density`),
+    /// whose pair lists have a Verlet skin of `skin_fraction` × the support radius
+    /// ([`PairLists`]).
     pub fn new(
         kernel: K,
-        setup: FluidSetup<D>,
+        setup: SphSetup<D>,
         model: SoilModel,
         viscosity: V,
         artificial_stress: S,
@@ -99,11 +90,13 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         spacing: Real,
         skin_fraction: Real,
     ) -> Result<Self, SearchError> {
-        let skin = skin_fraction.max(0.0) * kernel.support_radius();
-        let radius = kernel.support_radius() + skin;
-        let soil_grid = CellGrid::new(setup.domain.clone(), radius)?;
-        let mut wall_grid = CellGrid::new(setup.domain.clone(), radius)?;
-        wall_grid.build(&setup.walls.position)?;
+        let lists = PairLists::new(
+            setup.domain,
+            kernel.support_radius(),
+            skin_fraction,
+            &setup.walls.position,
+            true,
+        )?;
         let wave_speed = (model.elastic().p_wave_modulus() / setup.rest_density).sqrt();
         let repulsive = wall_config.repulsive.then_some(RepulsiveLiu2012 {
             sound_speed: wave_speed,
@@ -114,7 +107,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         walls.density.fill(setup.rest_density);
         Ok(Self {
             kernel,
-            domain: setup.domain,
+            lists,
             model,
             gravity: setup.gravity,
             walls,
@@ -127,14 +120,6 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             repulsive,
             damping_rate: 0.0,
             correct_velocity_gradient: false,
-            soil_grid,
-            wall_grid,
-            soil_soil: NeighbourList::new(),
-            soil_wall: NeighbourList::new(),
-            wall_soil: NeighbourList::new(),
-            skin,
-            listed_position: Vec::new(),
-            lists_valid: false,
             wall_stress: Vec::new(),
             wall_term: Vec::new(),
             velocity_gradient: Vec::new(),
@@ -173,20 +158,9 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         self.correct_velocity_gradient = on;
     }
 
-    /// The soil–soil neighbour list of the last step (self included).
-    pub fn soil_neighbours(&self) -> &NeighbourList {
-        &self.soil_soil
-    }
-
     /// The accelerations of the last step, damping included.
     pub fn acceleration(&self) -> &[Vector<D>] {
         &self.acceleration
-    }
-
-    /// The soil grid, to rebuild for a Z-order sort; invalidates the neighbour lists.
-    pub fn soil_grid_for_sorting(&mut self) -> &mut CellGrid<D> {
-        self.lists_valid = false;
-        &mut self.soil_grid
     }
 
     /// Removes the wall particles for which `remove` is true (e.g. a retaining wall at release)
@@ -211,8 +185,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         retain(&mut w.pressure, &keep);
         retain(&mut w.density, &keep);
         retain(&mut w.viscous_velocity, &keep);
-        self.wall_grid.build(&self.walls.position)?;
-        self.lists_valid = false;
+        self.lists.set_walls(&self.walls.position)?;
         Ok(removed)
     }
 
@@ -222,13 +195,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         if self.acceleration.len() == keep.len() {
             geosph_core::retain(&mut self.acceleration, keep);
         }
-        self.lists_valid = false;
-    }
-
-    /// The positions the neighbour lists were built at, while they are valid (for a
-    /// checkpoint).
-    pub fn listed_positions(&self) -> Option<&[Vector<D>]> {
-        self.lists_valid.then_some(self.listed_position.as_slice())
+        self.lists.invalidate();
     }
 
     /// Restores what the next step depends on besides the particles (a restart): the
@@ -240,50 +207,17 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         listed: Option<Vec<Vector<D>>>,
     ) -> Result<(), SearchError> {
         self.acceleration = acceleration;
-        self.lists_valid = false;
+        self.lists.invalidate();
         if let Some(listed) = listed {
-            self.build_lists(&listed)?;
-            self.listed_position = listed;
+            self.lists.rebuild_at(listed, &self.walls.position)?;
         }
         Ok(())
-    }
-
-    /// Builds the grid and the three neighbour lists at `position`.
-    fn build_lists(&mut self, position: &[Vector<D>]) -> Result<(), SearchError> {
-        self.soil_grid.build(position)?;
-        self.soil_grid
-            .neighbour_list(position, position, &mut self.soil_soil);
-        self.wall_grid
-            .neighbour_list(&self.walls.position, position, &mut self.soil_wall);
-        self.soil_grid
-            .neighbour_list(position, &self.walls.position, &mut self.wall_soil);
-        self.lists_valid = true;
-        Ok(())
-    }
-
-    fn lists_stale(&self, position: &[Vector<D>]) -> bool {
-        if !self.lists_valid || self.listed_position.len() != position.len() {
-            return true;
-        }
-        let domain = &self.domain;
-        let largest = position
-            .par_iter()
-            .zip(self.listed_position.par_iter())
-            .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
-            .reduce(|| 0.0, Real::max);
-        4.0 * largest > self.skin * self.skin
     }
 
     /// Wraps periodic positions and rebuilds stale neighbour lists; sizes the scratch arrays.
     pub fn update_lists(&mut self, soil: &mut Particles<D>) -> Result<(), SearchError> {
-        if self.domain.is_periodic() {
-            let domain = &self.domain;
-            soil.position.par_iter_mut().for_each(|x| domain.wrap(x));
-        }
-        if self.lists_stale(&soil.position) {
-            self.build_lists(&soil.position)?;
-            self.listed_position.clone_from(&soil.position);
-        }
+        self.lists
+            .update(&mut soil.position, &self.walls.position)?;
         let n = soil.len();
         self.velocity_gradient.resize(n, Matrix::zeros());
         self.density_rate.resize(n, 0.0);
@@ -337,20 +271,17 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
     fn kinematics<const CORRECT: bool>(&mut self, soil: &Particles<D>) {
         let Self {
             kernel,
-            domain,
+            lists,
             walls,
             wall_config,
-            soil_soil,
-            soil_wall,
             velocity_gradient,
             density_rate,
             rest_density,
             ..
         } = self;
-        let (kernel, domain, walls, rest_density) = (*kernel, &*domain, &*walls, *rest_density);
+        let (kernel, lists, walls, rest_density) = (*kernel, &*lists, &*walls, *rest_density);
         let free_slip = wall_config.slip != WallSlip::NoSlip;
         let beta_max = wall_config.beta_max;
-        let support2 = kernel.support_radius().powi(2);
         let Particles {
             position,
             velocity,
@@ -368,38 +299,22 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                 let mut l = Matrix::<D>::zeros();
                 let mut moment = Matrix::<D>::zeros();
                 let mut drho = 0.0;
-                for &j in soil_soil.neighbours(i) {
-                    let j = j as usize;
-                    if j == i {
-                        continue;
-                    }
-                    let r_ij = domain.displacement(&x_i, &position[j]);
-                    let r2 = r_ij.norm_squared();
-                    if r2 >= support2 {
-                        continue; // a pair in the Verlet skin
-                    }
-                    let grad = r_ij * kernel.gradient_factor(r2.sqrt());
+                lists.for_each_neighbour(&kernel, position, i, |pair| {
+                    let (j, grad) = (pair.index, pair.grad);
                     let dv = velocity[j] - v_i;
                     let volume = mass[j] / density[j];
                     l += (dv * volume) * grad.transpose();
                     if CORRECT {
-                        moment -= (grad * volume) * r_ij.transpose();
+                        moment -= (grad * volume) * pair.r_ij.transpose();
                     }
                     drho -= mass[j] * dv.dot(&grad);
-                }
-                for &w in soil_wall.neighbours(i) {
-                    let w = w as usize;
-                    let x_w = walls.position[w];
-                    let r_iw = domain.displacement(&x_i, &x_w);
-                    let r2 = r_iw.norm_squared();
-                    if r2 >= support2 {
-                        continue;
-                    }
-                    let grad = r_iw * kernel.gradient_factor(r2.sqrt());
+                });
+                lists.for_each_wall(&kernel, position, &walls.position, i, |pair| {
+                    let (w, grad) = (pair.index, pair.grad);
                     let v_w = dummy_velocity(
                         &x_i,
                         &v_i,
-                        &(x_i - r_iw),
+                        &(x_i - pair.r_ij),
                         &walls.normal[w],
                         walls.depth[w],
                         &walls.velocity[w],
@@ -410,10 +325,10 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                     let volume = walls.volume[w];
                     l += (dv * volume) * grad.transpose();
                     if CORRECT {
-                        moment -= (grad * volume) * r_iw.transpose();
+                        moment -= (grad * volume) * pair.r_ij.transpose();
                     }
                     drho -= rest_density * volume * dv.dot(&grad);
-                }
+                });
                 if CORRECT
                     && let Some(correction) =
                         well_conditioned_inverse(&moment, MAX_CONDITION_NUMBER)
@@ -467,37 +382,41 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             .soil
             .as_ref()
             .expect("soil particles carry soil fields");
-        let (kernel, domain, gravity) = (self.kernel, &self.domain, self.gravity);
+        let (kernel, lists, gravity) = (self.kernel, &self.lists, self.gravity);
         let extrapolate = self.wall_config.stress == WallStress::Extrapolated;
         let rho_w = self.rest_density;
-        let wall_soil = &self.wall_soil;
         let walls = &mut self.walls;
+        let wall_position = &walls.position;
         (
             self.wall_stress.par_iter_mut(),
             self.wall_term.par_iter_mut(),
             walls.pressure.par_iter_mut(),
-            walls.position.par_iter(),
         )
             .into_par_iter()
             .enumerate()
             .with_min_len(MIN_CHUNK)
-            .for_each(|(w, (stress, term, pressure, x_w))| {
+            .for_each(|(w, (stress, term, pressure))| {
                 let mut sum = Tensor3::zeros();
                 let mut weight = 0.0;
-                for &i in wall_soil.neighbours(w) {
-                    let i = i as usize;
-                    let r_iw = domain.displacement(&soil.position[i], x_w);
-                    let kernel_value = kernel.value(r_iw.norm());
-                    if kernel_value <= 0.0 {
-                        continue;
-                    }
-                    let mut sigma = fields.stress[i];
-                    if extrapolate {
-                        sigma += gravity_extrapolation(soil.density[i], &gravity, &r_iw);
-                    }
-                    sum += sigma * kernel_value;
-                    weight += kernel_value;
-                }
+                lists.for_each_particle_near_wall(
+                    &kernel,
+                    &soil.position,
+                    wall_position,
+                    w,
+                    |pair| {
+                        let kernel_value = kernel.value(pair.r);
+                        let mut sigma = fields.stress[pair.index];
+                        if extrapolate {
+                            sigma += gravity_extrapolation(
+                                soil.density[pair.index],
+                                &gravity,
+                                &pair.r_ij,
+                            );
+                        }
+                        sum += sigma * kernel_value;
+                        weight += kernel_value;
+                    },
+                );
                 *stress = if weight > 0.0 {
                     sum / weight
                 } else {
@@ -512,7 +431,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
     fn momentum(&mut self, soil: &Particles<D>, dt: Real) {
         let Self {
             kernel,
-            domain,
+            lists,
             gravity,
             walls,
             wall_config,
@@ -521,15 +440,13 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             artificial_stress,
             repulsive,
             damping_rate,
-            soil_soil,
-            soil_wall,
             wall_term,
             stress_term,
             tensile_term,
             acceleration,
             ..
         } = self;
-        let (kernel, domain, gravity, walls) = (*kernel, &*domain, *gravity, &*walls);
+        let (kernel, lists, gravity, walls) = (*kernel, &*lists, *gravity, &*walls);
         let (viscosity, artificial_stress, repulsive) =
             (*viscosity, *artificial_stress, *repulsive);
         let (rest_density, damping_rate) = (*rest_density, *damping_rate);
@@ -537,7 +454,6 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             WallSlip::Friction { angle_deg } => Some(angle_deg.to_radians().tan()),
             _ => None,
         };
-        let support2 = kernel.support_radius().powi(2);
         let Particles {
             position,
             velocity,
@@ -550,27 +466,17 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
             .enumerate()
             .with_min_len(MIN_CHUNK)
             .for_each(|(i, acceleration)| {
-                let (x_i, v_i, rho_i) = (position[i], velocity[i], density[i]);
+                let (v_i, rho_i) = (velocity[i], density[i]);
                 let (term_i, tensile_i) = (stress_term[i], tensile_term[i]);
                 let mut a_i = Vector::<D>::zeros();
-                for &j in soil_soil.neighbours(i) {
-                    let j = j as usize;
-                    if j == i {
-                        continue;
-                    }
-                    let r_ij = domain.displacement(&x_i, &position[j]);
-                    let r2 = r_ij.norm_squared();
-                    if r2 >= support2 {
-                        continue;
-                    }
-                    let r = r2.sqrt();
-                    let grad = r_ij * kernel.gradient_factor(r);
+                lists.for_each_neighbour(&kernel, position, i, |pair| {
+                    let j = pair.index;
                     let mut term = term_i + stress_term[j];
                     if V::ON {
                         let pi = viscosity.pi(
-                            &r_ij,
+                            &pair.r_ij,
                             &(v_i - velocity[j]),
-                            r2,
+                            pair.r2,
                             0.5 * (rho_i + density[j]),
                         );
                         for k in 0..D {
@@ -578,34 +484,27 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                         }
                     }
                     if S::ON {
-                        let f = artificial_stress.pair_factor(kernel.value(r));
+                        let f = artificial_stress.pair_factor(kernel.value(pair.r));
                         term += (tensile_i + tensile_term[j]) * f;
                     }
-                    a_i += term * grad * mass[j];
-                }
+                    a_i += term * pair.grad * mass[j];
+                });
                 let mut a_wall = Vector::<D>::zeros();
                 let mut wall_normal = Vector::<D>::zeros();
-                for &w in soil_wall.neighbours(i) {
-                    let w = w as usize;
-                    let r_iw = domain.displacement(&x_i, &walls.position[w]);
-                    let r2 = r_iw.norm_squared();
-                    if r2 >= support2 {
-                        continue;
-                    }
-                    let r = r2.sqrt();
-                    let grad = r_iw * kernel.gradient_factor(r);
+                lists.for_each_wall(&kernel, position, &walls.position, i, |pair| {
+                    let w = pair.index;
                     let mut term = term_i + wall_term[w];
                     if S::ON {
-                        term += tensile_i * artificial_stress.pair_factor(kernel.value(r));
+                        term += tensile_i * artificial_stress.pair_factor(kernel.value(pair.r));
                     }
-                    a_wall += term * grad * (rest_density * walls.volume[w]);
+                    a_wall += term * pair.grad * (rest_density * walls.volume[w]);
                     if let Some(repulsive) = &repulsive {
-                        a_wall += repulsive.acceleration(&r_iw);
+                        a_wall += repulsive.acceleration(&pair.r_ij);
                     }
                     if friction.is_some() {
-                        wall_normal += walls.normal[w] * kernel.value(r);
+                        wall_normal += walls.normal[w] * kernel.value(pair.r);
                     }
-                }
+                });
                 a_i += gravity + a_wall;
                 if let Some(tan_delta) = friction {
                     a_i += coulomb_friction(&wall_normal, &a_wall, &v_i, &a_i, tan_delta, dt);

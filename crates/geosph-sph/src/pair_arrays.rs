@@ -8,7 +8,7 @@ const BLOCK: usize = 512;
 
 /// One particle's view in [`for_each_particle`]: its fluid and wall neighbours with the slices
 /// of the per-pair arrays aligned with them, and its entries of three per-particle arrays.
-pub(crate) struct ParticleView<'a, T, U, A, B, C> {
+pub struct ParticleView<'a, T, U, A, B, C> {
     /// Fluid neighbours of the particle.
     pub fluid: &'a [u32],
     /// Per-pair values aligned with `fluid`.
@@ -36,7 +36,7 @@ struct Parts<'a, T, U, A, B, C> {
 /// The particle range is halved recursively with `rayon::join`, cutting every array at the
 /// middle particle (the per-pair ones at its CSR offsets), so each task owns disjoint slices:
 /// no allocation, no atomics, and the same result for any number of threads.
-pub(crate) fn for_each_particle<T: Send, U: Send, A: Send, B: Send, C: Send>(
+pub fn for_each_particle<T: Send, U: Send, A: Send, B: Send, C: Send>(
     (fluid, wall): (&NeighbourList, &NeighbourList),
     fluid_values: &mut [T],
     wall_values: &mut [U],

@@ -61,7 +61,8 @@ impl<const D: usize> Viscosity<D> for Inviscid {
 /// dv_i/dt ∋ −Σ_j m_j Π_ij ∇_i W_ij,  Π_ij = (−α c̄ μ_ij + β μ_ij²) / ρ̄_ij  for v_ij·x_ij < 0
 /// (else 0),  μ_ij = h v_ij·x_ij / (|x_ij|² + 0.01 h²),
 ///
-/// with ρ̄_ij = (ρ_i + ρ_j)/2 and c̄ the reference sound speed c₀.
+/// with ρ̄_ij = (ρ_i + ρ_j)/2 and c̄ the signal speed: the reference sound speed c₀ of a fluid,
+/// the elastic P-wave speed of a soil (Bui et al. 2008, eq. 33).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArtificialMonaghan1992 {
     /// α (linear term).
@@ -70,8 +71,23 @@ pub struct ArtificialMonaghan1992 {
     pub beta: Real,
     /// h.
     pub smoothing_length: Real,
-    /// c̄ = c₀.
+    /// c̄: c₀ of a fluid, the P-wave speed √((K + 4G/3)/ρ₀) of a soil.
     pub sound_speed: Real,
+}
+
+impl ArtificialMonaghan1992 {
+    /// Π_ij of a pair with v_ij·x_ij = `approach`, 1/(|x_ij|² + 0.01 h²) = `inv_r2_eta2` and
+    /// ρ̄_ij = `rho_mean`: (−α c̄ μ_ij + β μ_ij²)/ρ̄_ij if the pair approaches, else 0. The soil
+    /// adds it to the stress term of the pair, −Π_ij 1 (Bui et al. 2008, eq. 32).
+    #[inline(always)]
+    pub fn pi(&self, approach: Real, inv_r2_eta2: Real, rho_mean: Real) -> Real {
+        if approach >= 0.0 {
+            return 0.0;
+        }
+        let h = self.smoothing_length;
+        let mu = h * approach * inv_r2_eta2;
+        (-self.alpha * self.sound_speed * mu + self.beta * mu * mu) / rho_mean
+    }
 }
 
 impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
@@ -83,10 +99,7 @@ impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
         if approach >= 0.0 {
             return Vector::zeros();
         }
-        let h = self.smoothing_length;
-        let mu = h * approach * pair.inv_r2_eta2;
-        let pi = (-self.alpha * self.sound_speed * mu + self.beta * mu * mu)
-            / (0.5 * (pair.rho_i + pair.rho_j));
+        let pi = self.pi(approach, pair.inv_r2_eta2, 0.5 * (pair.rho_i + pair.rho_j));
         pair.grad * (-pair.mass_j * pi)
     }
 

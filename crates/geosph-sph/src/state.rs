@@ -82,10 +82,10 @@ impl StateArrays {
     }
 }
 
-/// What a solver's next step depends on besides the particles: see [`crate::FluidSolver`].
+/// What a solver's next step depends on besides the particles: see [`crate::Solver`].
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SolverState {
-    /// The solver's name ([`crate::FluidSolver::name`]), checked on restore.
+    /// The solver's name ([`crate::Solver::name`]), checked on restore.
     pub method: String,
     /// Steps taken (sorting and re-initialisation schedules count them).
     pub steps: u64,

@@ -1,0 +1,166 @@
+//! The WCSPH solver: [`WcsphSystem`] under an explicit integrator.
+
+use geosph_boundary::WallParticles;
+use geosph_core::{Particles, Real};
+use geosph_kernels::Kernel;
+use geosph_sph::{
+    Solver, SolverError, SolverState, StepReport, Viscosity, density_errors, event_step, max_speed,
+};
+use geosph_time::{Integrator, Rates, StepLimits, time_step};
+
+use crate::diffusion::DensityDiffusion;
+use crate::wcsph::WcsphSystem;
+
+/// Weakly compressible SPH: [`WcsphSystem`] advanced by an explicit [`Integrator`] with the
+/// adaptive step of [`time_step`], Z-order sorting on the schedule of the system's
+/// [`PairLists`](geosph_sph::PairLists) and Shepard density re-initialisation every
+/// `shepard_every` steps (0: never).
+pub struct Wcsph<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> {
+    /// The physics.
+    pub system: WcsphSystem<D, K, V, F>,
+    /// The time integrator.
+    pub integrator: Integrator<D>,
+    /// Courant number of the acoustic limit.
+    pub cfl: Real,
+    /// Steps between Shepard density re-initialisations (0: never).
+    pub shepard_every: usize,
+    steps: usize,
+}
+
+impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Wcsph<D, K, V, F> {
+    /// A solver for `fluid`; creates its pressure field from the current density.
+    pub fn new(
+        system: WcsphSystem<D, K, V, F>,
+        integrator: Integrator<D>,
+        fluid: &mut Particles<D>,
+    ) -> Self {
+        fluid.enable_pressure();
+        system.update_pressure(fluid);
+        Self {
+            system,
+            integrator,
+            cfl: 0.25,
+            shepard_every: 0,
+            steps: 0,
+        }
+    }
+}
+
+impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Solver<D>
+    for Wcsph<D, K, V, F>
+{
+    fn name(&self) -> &'static str {
+        "wcsph"
+    }
+
+    fn step(
+        &mut self,
+        fluid: &mut Particles<D>,
+        time: Real,
+        max_dt: Real,
+    ) -> Result<StepReport, SolverError> {
+        if let Some(permutation) = self.system.lists.sort_if_due(self.steps, fluid)? {
+            self.integrator.permute(&permutation);
+        }
+        self.system.shepard_due =
+            self.shepard_every > 0 && self.steps > 0 && self.steps % self.shepard_every == 0;
+        let gravity = self.system.gravity.norm();
+        let limits = StepLimits {
+            cfl: self.cfl,
+            smoothing_length: self.system.kernel.smoothing_length(),
+            sound_speed: self.system.eos.sound_speed,
+            max_speed: max_speed(&fluid.velocity),
+            max_acceleration: self.integrator.rates().max_acceleration().max(gravity),
+            kinematic_viscosity: self.system.viscosity.kinematic_viscosity(),
+        };
+        let dt = event_step(time_step(&limits), max_dt);
+        self.integrator.step(&mut self.system, fluid, time, dt)?;
+        self.steps += 1;
+        let (mean, max) = density_errors(&fluid.density, self.system.eos.rest_density);
+        Ok(StepReport {
+            dt,
+            iterations: 1,
+            divergence_iterations: 0,
+            density_error_mean: mean,
+            density_error_max: max,
+        })
+    }
+
+    fn walls(&self) -> &WallParticles<D> {
+        &self.system.walls
+    }
+
+    fn sound_speed(&self) -> Real {
+        self.system.eos.sound_speed
+    }
+
+    fn density_error(&self, density: Real) -> Real {
+        (density / self.system.eos.rest_density - 1.0).abs()
+    }
+
+    fn blow_up_advice(&self) -> &'static str {
+        "the sound speed is too low or the time step too large (lower `cfl`)"
+    }
+
+    fn remove_particles(
+        &mut self,
+        fluid: &mut Particles<D>,
+        keep: &[bool],
+    ) -> Result<(), SolverError> {
+        fluid.retain(keep);
+        self.integrator.retain(keep);
+        self.system.lists.invalidate();
+        Ok(())
+    }
+
+    fn save_state(&self) -> SolverState {
+        let mut state = SolverState::new(self.name(), self.steps);
+        let (arrays, rates) = (&mut state.arrays, self.integrator.rates());
+        arrays.push(
+            "rates_current",
+            &[Real::from(self.integrator.rates_current())],
+        );
+        arrays.push_matrices("acceleration", &rates.acceleration);
+        arrays.push("density_rate", &rates.density_rate);
+        arrays.push_matrices("position_correction", &rates.position_correction);
+        if let Some(stress_rate) = &rates.stress_rate {
+            arrays.push_matrices("stress_rate", stress_rate);
+        }
+        if let Some(listed) = self.system.lists.listed_positions() {
+            arrays.push_matrices("listed_position", listed);
+        }
+        state
+    }
+
+    fn restore_state(
+        &mut self,
+        mut state: SolverState,
+        fluid: &mut Particles<D>,
+    ) -> Result<(), SolverError> {
+        let steps = state.steps_of(self.name())?;
+        let arrays = &mut state.arrays;
+        let n = fluid.len();
+        let current = arrays.take_value("rates_current")? != 0.0;
+        let rates = Rates {
+            acceleration: arrays.take_matrices("acceleration", n)?,
+            density_rate: arrays
+                .take_matrices::<1, 1>("density_rate", n)?
+                .iter()
+                .map(|m| m[(0, 0)])
+                .collect(),
+            position_correction: arrays.take_matrices("position_correction", n)?,
+            stress_rate: match arrays.contains("stress_rate") {
+                true => Some(arrays.take_matrices("stress_rate", n)?),
+                false => None,
+            },
+        };
+        self.integrator.restore_rates(rates, current);
+        if arrays.contains("listed_position") {
+            let listed = arrays.take_matrices("listed_position", n)?;
+            let walls = &self.system.walls.position;
+            self.system.lists.rebuild_at(listed, walls)?;
+        }
+        self.steps = steps;
+        Ok(())
+    }
+}

@@ -1,0 +1,217 @@
+//! Calibration of SPH sums on the initial particle lattice: the kernel sum, the gradient of a
+//! linear field, and the spectrum of the pressure system there. Solvers use them to start a
+//! lattice at rest and to make the pressure gradient of still water exact.
+
+use geosph_core::{Real, Vector};
+use geosph_kernels::Kernel;
+
+/// Calls `visit(x)` for every point x = k·dx (k ∈ ℤ^D) of the lattice of `spacing` dx with
+/// |x| < `radius`, the origin included.
+pub fn for_each_lattice_offset<const D: usize>(
+    radius: Real,
+    spacing: Real,
+    mut visit: impl FnMut(Vector<D>),
+) {
+    let reach = (radius / spacing).ceil() as i64;
+    let mut index = [-reach; D];
+    loop {
+        let x = Vector::<D>::from_fn(|k, _| index[k] as Real * spacing);
+        if x.norm() < radius {
+            visit(x);
+        }
+        // The next point of the box [−reach, reach]^D, axis 0 fastest.
+        let mut axis = 0;
+        loop {
+            if axis == D {
+                return;
+            }
+            index[axis] += 1;
+            if index[axis] <= reach {
+                break;
+            }
+            index[axis] = -reach;
+            axis += 1;
+        }
+    }
+}
+
+/// The kernel sum Σ_k W(|k dx|) of a particle inside a filled lattice of spacing dx.
+///
+/// It differs from 1/dx^D by the kernel's discretisation error (+1.0 % for Wendland C2 with
+/// h = 1.3 dx in 2D, see the unit test), so a fluid of particles of mass ρ₀ dx^D on the
+/// lattice has a summation density off ρ₀ by as much. The incompressible solvers, whose
+/// density *is* the kernel sum, would start by pushing the lattice apart; they use the mass
+/// ρ₀ / Σ_k W instead (and the wall volume 1 / Σ_k W), for which the lattice is at rest.
+pub fn lattice_kernel_sum<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
+    let mut sum = 0.0;
+    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
+        sum += kernel.value(x.norm());
+    });
+    sum
+}
+
+/// The factor f of Σ_j V (x_j − x_i) ⊗ ∇_i W_ij = f I for a particle inside a filled lattice
+/// of spacing dx with V = 1 / Σ_k W(|k dx|), the volume the incompressible solvers give it.
+///
+/// f = 1 would make the SPH gradient of a linear field exact; for Wendland C2 at h = 1.3 dx
+/// in 2D f = 0.964 (see the unit test), so a pressure force −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²)
+/// ∇_i W_ij holding still water up needs a pressure gradient 3.7 % steeper than ρ₀ g. The
+/// solvers multiply every pressure-gradient term by 1/f
+/// (the incompressible solvers' `gradient_correction`): a constant, so the pair forces stay
+/// antisymmetric and momentum is conserved, unlike a per-particle renormalisation
+/// (Randles & Libersky 1996), which is exact for any particle order but is not.
+pub fn lattice_gradient_factor<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
+    let volume = 1.0 / lattice_kernel_sum(kernel, spacing);
+    let mut sum = 0.0;
+    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
+        // x = x_j − x_i, so ∇_i W_ij = ∇W(−x).
+        sum += x.dot(&kernel.gradient(&-x));
+    });
+    volume * sum / D as Real
+}
+
+/// Σ_k |∇W(x_k)|² over a filled lattice of spacing dx: m² times it is the diagonal d of a
+/// particle of mass m inside the lattice (its G·S vanishes there), the scale of
+/// the incompressible solvers' diagonal floor.
+pub fn lattice_gradient_squares<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
+    let mut squares = 0.0;
+    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
+        squares += kernel.gradient(&x).norm_squared();
+    });
+    squares
+}
+
+/// The largest eigenvalue λ_max of D⁻¹A for the pressure system A of a filled lattice of
+/// spacing dx, D its diagonal: the bound on the relaxation of a Jacobi iteration on it, which
+/// converges only for ω λ_max < 2.
+///
+/// On the lattice A is a convolution, so its eigenvectors are the Fourier modes p_j = e^{ik·x_j}
+/// and, with the symmetric pressure force −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij and the
+/// continuity divergence, its eigenvalue over the diagonal is
+///
+/// λ(k) = |Σ_j sin(k·x_j) ∇W(x_j)|² / Σ_j |∇W(x_j)|²,
+///
+/// maximised here over k in the quarter [0, π/dx]^D of the Brillouin zone (λ is even in each
+/// component of k on a lattice symmetric under reflections), on a grid of 25 points per axis
+/// in 2D and 13 in 3D. For Wendland C2 at h = 1.3 dx in 2D λ_max = 2.60, so Ihmsen et al.'s
+/// ω = 0.5 is 65 % of the limit; for the quintic spline at the same h it is 4.11, and ω = 0.5
+/// diverges (see the unit test).
+pub fn lattice_jacobi_bound<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
+    let mut offsets = Vec::new();
+    for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
+        offsets.push((x, kernel.gradient(&-x)));
+    });
+    let squares = lattice_gradient_squares(kernel, spacing);
+    let points = if D <= 2 { 25 } else { 13 };
+    let step = std::f64::consts::PI / (spacing * (points - 1) as Real);
+    let mut largest: Real = 0.0;
+    let mut index = [0usize; D];
+    loop {
+        let k = Vector::<D>::from_fn(|axis, _| index[axis] as Real * step);
+        let sum = offsets
+            .iter()
+            .fold(Vector::<D>::zeros(), |sum, (x, gradient)| {
+                sum + gradient * k.dot(x).sin()
+            });
+        largest = largest.max(sum.norm_squared() / squares);
+        // The next grid point, axis 0 fastest.
+        let mut axis = 0;
+        loop {
+            if axis == D {
+                return largest;
+            }
+            index[axis] += 1;
+            if index[axis] < points {
+                break;
+            }
+            index[axis] = 0;
+            axis += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geosph_kernels::{CubicSpline, QuinticSpline, WendlandC2};
+
+    #[test]
+    fn lattice_sums_are_close_to_one_over_the_cell_volume() {
+        let dx: Real = 0.01;
+        for (name, sum) in [
+            (
+                "wendland-c2 2D",
+                lattice_kernel_sum::<2, _>(&WendlandC2::<2>::new(1.3 * dx), dx) * dx * dx,
+            ),
+            (
+                "cubic 2D",
+                lattice_kernel_sum::<2, _>(&CubicSpline::<2>::new(1.3 * dx), dx) * dx * dx,
+            ),
+            (
+                "wendland-c2 3D",
+                lattice_kernel_sum::<3, _>(&WendlandC2::<3>::new(1.3 * dx), dx) * dx.powi(3),
+            ),
+        ] {
+            println!("{name}: Σ W dx^D = {sum}");
+            assert!((sum - 1.0).abs() < 0.05, "{name}: {sum}");
+        }
+    }
+
+    /// The factor against a direct sum of the x-gradient of f(x) = x over a lattice, which
+    /// must tend to 1 as h/dx grows (0.9638 at 1.3, 0.9923 at 1.5, 0.9980 at 2.0 in 2D,
+    /// computed independently).
+    #[test]
+    fn lattice_gradient_factor_is_the_gradient_of_a_linear_field() {
+        let dx: Real = 0.01;
+        for (ratio, expected) in [(1.3, 0.9638), (1.5, 0.9923), (2.0, 0.9980)] {
+            let kernel = WendlandC2::<2>::new(ratio * dx);
+            let volume = 1.0 / lattice_kernel_sum::<2, _>(&kernel, dx);
+            let mut gradient = Vector::<2>::zeros();
+            for_each_lattice_offset::<2>(kernel.support_radius(), dx, |x| {
+                gradient += kernel.gradient(&-x) * (volume * x[0]);
+            });
+            let factor = lattice_gradient_factor::<2, _>(&kernel, dx);
+            assert!((gradient[0] - factor).abs() < 1e-12 && gradient[1].abs() < 1e-12);
+            assert!((factor - expected).abs() < 5e-4, "h = {ratio} dx: {factor}");
+        }
+    }
+
+    /// λ_max against an independent computation (NumPy, 121 × 121 wave vectors over the whole
+    /// zone): 2.602 Wendland C2 and 2.880 cubic spline at h = 1.3 dx, 5.676 Wendland C2 at
+    /// h = 2 dx, 4.114 quintic spline at h = 1.3 dx (2D).
+    #[test]
+    fn lattice_jacobi_bound_matches_the_fourier_symbol() {
+        let dx: Real = 0.01;
+        for (name, bound, expected) in [
+            (
+                "wendland-c2 1.3",
+                lattice_jacobi_bound::<2, _>(&WendlandC2::<2>::new(1.3 * dx), dx),
+                2.602,
+            ),
+            (
+                "cubic 1.3",
+                lattice_jacobi_bound::<2, _>(&CubicSpline::<2>::new(1.3 * dx), dx),
+                2.880,
+            ),
+            (
+                "wendland-c2 2.0",
+                lattice_jacobi_bound::<2, _>(&WendlandC2::<2>::new(2.0 * dx), dx),
+                5.676,
+            ),
+            (
+                "quintic 1.3",
+                lattice_jacobi_bound::<2, _>(&QuinticSpline::<2>::new(1.3 * dx), dx),
+                4.114,
+            ),
+        ] {
+            println!("{name}: λ_max = {bound:.4}");
+            assert!(
+                (bound - expected).abs() < 0.01 * expected,
+                "{name}: {bound}"
+            );
+        }
+        let bound_3d = lattice_jacobi_bound::<3, _>(&WendlandC2::<3>::new(1.3 * dx), dx);
+        println!("wendland-c2 1.3 3D: λ_max = {bound_3d:.4}");
+        assert!(bound_3d > 1.0 && bound_3d < 10.0);
+    }
+}

@@ -1,0 +1,32 @@
+//! The material-neutral SPH layer of geosph, between the building blocks (core, kernels,
+//! neighbours, time, boundary) and the materials (`geosph-fluid`, `geosph-soil`).
+//!
+//! Modules:
+//! - [`solver`]: the [`Solver`] interface the runner steps, its [`StepReport`] and
+//!   [`SolverError`], and the event-aligned step ([`event_step`]).
+//! - [`state`]: [`SolverState`], what a solver saves in a checkpoint to continue bitwise.
+//! - [`setup`]: [`SphSetup`], the scene-level inputs of every solver.
+//! - [`lists`]: [`PairLists`], the one owner of the grids, the inner and wall contact lists,
+//!   the Verlet skin and the Z-order schedule, with the pair visitors that hand each term
+//!   j, r_ij, r² and ∇_i W_ij.
+//! - [`pair_arrays`]: one parallel pass writing per-pair and per-particle arrays together.
+//! - [`viscosity`]: the viscous pair terms (artificial, laminar) both materials use.
+//! - [`density_error`]: the density-error reductions, in a fixed order.
+//! - [`lattice`]: kernel sums and gradient calibration on the initial lattice.
+#![warn(missing_docs)]
+
+pub mod density_error;
+pub mod lattice;
+pub mod lists;
+pub mod pair_arrays;
+pub mod setup;
+pub mod solver;
+pub mod state;
+pub mod viscosity;
+
+pub use density_error::{compression, density_errors};
+pub use lists::{Neighbour, PairLists};
+pub use setup::SphSetup;
+pub use solver::{Solver, SolverError, StepReport, event_step, max_speed};
+pub use state::{SolverState, StateArrays, StateError};
+pub use viscosity::{ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Pair, Viscosity};

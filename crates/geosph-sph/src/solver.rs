@@ -1,0 +1,155 @@
+//! The solver interface the runner steps, whatever the material: one step, its report, its
+//! failure, and what a checkpoint saves.
+
+use geosph_boundary::WallParticles;
+use geosph_core::{Particles, Real};
+use geosph_neighbours::SearchError;
+
+use crate::state::{SolverState, StateError};
+
+/// What one step did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepReport {
+    /// The time step taken.
+    pub dt: Real,
+    /// Pressure iterations (1 for explicit solvers; the constant-density solve for DFSPH).
+    pub iterations: usize,
+    /// Iterations of DFSPH's divergence-free solve (0 for the other solvers).
+    pub divergence_iterations: usize,
+    /// Mean relative density error over the particles, as the solver measures it
+    /// ([`Solver::density_error`]).
+    pub density_error_mean: Real,
+    /// Largest relative density error.
+    pub density_error_max: Real,
+}
+
+/// Why a step failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    /// The neighbour search failed, e.g. a particle left the domain.
+    #[error("{0}{hint}", hint = search_hint(.0))]
+    Search(#[from] SearchError),
+    /// A saved state does not fit this solver (a restart from another scene's checkpoint).
+    #[error(transparent)]
+    State(#[from] StateError),
+}
+
+/// What a user can do about a failed search.
+fn search_hint(error: &SearchError) -> &'static str {
+    match error {
+        SearchError::OutsideDomain { .. } => {
+            "; a particle left the domain: if the flow may go there (a splash, an outflow), enlarge the scene's `domain`, otherwise check the walls and the time step"
+        }
+        _ => "",
+    }
+}
+
+/// An SPH solver of one material (a fluid method, or soil), stepped by the runner. Dispatch
+/// happens once per step; the hot loops inside are monomorphised over kernel and physics
+/// terms.
+pub trait Solver<const D: usize>: Send {
+    /// The method's name, e.g. "wcsph".
+    fn name(&self) -> &'static str;
+
+    /// Advances the particles from `time` by one step of at most `max_dt`.
+    fn step(
+        &mut self,
+        particles: &mut Particles<D>,
+        time: Real,
+        max_dt: Real,
+    ) -> Result<StepReport, SolverError>;
+
+    /// The wall particles, with their current pressure.
+    fn walls(&self) -> &WallParticles<D>;
+
+    /// The reference sound speed c₀ (0 for incompressible solvers).
+    fn sound_speed(&self) -> Real;
+
+    /// The density error this solver controls, per particle, as a fraction of ρ₀: |ρ/ρ₀ − 1|
+    /// for WCSPH; the compression max(ρ/ρ₀ − 1, 0) for the incompressible solvers, whose
+    /// free-surface particles sit below ρ₀ by construction.
+    fn density_error(&self, density: Real) -> Real;
+
+    /// What a user can change when the density error runs away.
+    fn blow_up_advice(&self) -> &'static str;
+
+    /// Removes the particles `k` without `keep[k]` (particles that left the domain) from
+    /// `particles` and the same entries from the solver's own per-particle state, keeping the order
+    /// of the others; neighbour lists and cached rates are then those of the particles that
+    /// remain. Called between steps, only when some particle is removed.
+    fn remove_particles(
+        &mut self,
+        particles: &mut Particles<D>,
+        keep: &[bool],
+    ) -> Result<(), SolverError>;
+
+    /// Everything the next step depends on besides the particles (step count, cached rates,
+    /// neighbour-list positions, warm-start data), for a checkpoint.
+    fn save_state(&self) -> SolverState;
+
+    /// Continues from `state`, saved by [`Solver::save_state`] of a solver built from the
+    /// same scene, with `particles` already set to the particles saved with it; the next step is
+    /// then bitwise the step the saving run took next.
+    fn restore_state(
+        &mut self,
+        state: SolverState,
+        particles: &mut Particles<D>,
+    ) -> Result<(), SolverError>;
+}
+
+/// The step to take when the stability limit is `stable` and the next event (output, sample,
+/// end) is `max_dt` away: the interval divided into the fewest equal steps no longer than
+/// `stable`, so the steps up to an event are all alike and none is a sliver.
+///
+/// `stable` is exceeded by at most a relative 10⁻⁶, so that an event a whole number of steps
+/// away up to the round-off of the accumulated time is not reached by an extra half step.
+/// Equal steps matter for the incompressible solvers: their pressure corrects the density
+/// error left by the previous step within one step, so it scales with 1/Δt², and a step
+/// shortened to land on an event would put a pressure unlike the run's into every output and
+/// sample (`docs/incompressible.md`, "Equal steps up to each event").
+pub fn event_step(stable: Real, max_dt: Real) -> Real {
+    let steps = (max_dt / stable * (1.0 - 1e-6)).ceil().max(1.0);
+    max_dt / steps
+}
+
+/// Largest |v| of `velocity`.
+pub fn max_speed<const D: usize>(velocity: &[geosph_core::Vector<D>]) -> Real {
+    velocity
+        .iter()
+        .fold(0.0, |max: Real, v| max.max(v.norm_squared()))
+        .sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_particle_outside_the_domain_gets_a_hint() {
+        let error = SolverError::from(SearchError::OutsideDomain {
+            index: 7,
+            position: vec![0.5, 9.0],
+            min: vec![0.0, 0.0],
+            max: vec![1.0, 6.0],
+        });
+        let message = error.to_string();
+        assert!(message.contains("particle 7"), "{message}");
+        assert!(
+            message.contains("enlarge the scene's `domain`"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn events_are_reached_without_slivers() {
+        assert_eq!(event_step(1e-4, 5e-5), 5e-5);
+        assert_eq!(event_step(1e-4, 1.5e-4), 0.75e-4);
+        approx::assert_relative_eq!(event_step(1e-4, 1e-3), 1e-4, max_relative = 1e-15);
+        // Three equal steps rather than two full ones and a remainder of 5 %.
+        approx::assert_relative_eq!(event_step(1e-4, 2.1e-4), 0.7e-4, max_relative = 1e-15);
+        // An event one step away up to round-off is reached in one step, not two halves.
+        let rounded = 1e-4 * (1.0 + 1e-12);
+        assert_eq!(event_step(1e-4, rounded), rounded);
+        assert_eq!(event_step(Real::INFINITY, 0.1), 0.1);
+    }
+}
