@@ -165,15 +165,12 @@ fn a_blow_up_without_output_folder_says_nothing_was_saved() {
 fn built<const D: usize>(scene: &Scene) -> (Particles<D>, Box<dyn Solver<D>>, Limits<D>) {
     let (mut fluid, inputs) = geosph_scene::build::<D>(scene).unwrap().split();
     let limit_inputs = LimitInputs::of(&inputs);
-    let solver = match &scene.solver {
+    let mut solver = match &scene.solver {
         SolverSpec::Wcsph(config) => geosph_fluid::build_wcsph(config, inputs, &mut fluid).unwrap(),
-        SolverSpec::Soil(config) => {
-            geosph_soil::build_soil(config, inputs, &mut fluid)
-                .unwrap()
-                .solver
-        }
+        SolverSpec::Soil(config) => geosph_soil::build_soil(config, inputs, &mut fluid).unwrap(),
         _ => unreachable!("WCSPH and soil scenes only"),
     };
+    solver.initial_stage(&mut fluid).unwrap();
     let limits = Limits::new(limit_inputs, &fluid, solver.as_ref());
     (fluid, solver, limits)
 }

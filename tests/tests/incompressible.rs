@@ -1,7 +1,7 @@
 //! PCISPH, IISPH and DFSPH against analytic and experimental references.
 //!
 //! - Hydrostatic tank (2D): still water of depth H = 0.4 m in a 0.3 m wide tank, dx = 0.02 m,
-//!   run for 20 s of simulated time, the stability horizon the issue sets, with the pressure
+//!   run for 20 s of simulated time, the stability horizon geosph requires of every solver, with the pressure
 //!   solved to a target average compression of 0.1 %: the measured average compression over
 //!   the run at the target (5 % allowance, see the assertion), no particle through a wall,
 //!   the mass exact, and the pressure (averaged over the second 10 s, sampled every step)
@@ -202,7 +202,7 @@ fn probe_error(tank: &Tank) -> Real {
     profile_error(&tank.probes, tank.water_depth)
 }
 
-/// The still tank at the default 0.1 % target: the issue's 2 % of ρ₀ g H on the probes'
+/// The still tank at the default 0.1 % target: the required 2 % of ρ₀ g H on the probes'
 /// profile and on the layers averaged in pairs ([`pair_profile_error`]).
 fn hydrostatic_tank(solver: &str) {
     let tank = tank_profile(solver);
@@ -250,7 +250,7 @@ fn hydrostatic_tank(solver: &str) {
 /// The layer pressures (layers dx thick) alternate about ρ₀ g (H − y) by up to ±3 % of the
 /// bed pressure ρ₀ g H, a mode at the particle scale whose pattern changes with rounding
 /// (`docs/incompressible.md`, "Still water"). Asserted are the probes and the layers averaged
-/// in pairs (2 dx) within the issue's 2 % of ρ₀ g H, and every single layer within the WCSPH
+/// in pairs (2 dx) within the required 2 % of ρ₀ g H, and every single layer within the WCSPH
 /// tank's 5 %.
 #[test]
 fn hydrostatic_tank_converged_iisph_is_within_2_percent() {

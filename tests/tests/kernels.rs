@@ -4,8 +4,9 @@
 //! quadrature split at the spline breakpoints, exact for the piecewise polynomials), be
 //! non-negative and non-increasing, vanish with its derivative at and beyond the support, and
 //! have `dW/dr`, `(1/r) dW/dr` and `∇W` consistent with central finite differences of `W`.
-//! The same quadrature applied to the constants and polynomials of the design notes
-//! (`/work/shared/seeds`) shows they do not integrate to 1.
+//! The same quadrature applied to the constants and polynomials of the project's starting
+//! design notes (quoted in `docs/theory.md`, "Errors in the design notes confirmed by tests")
+//! shows they do not integrate to 1.
 
 use std::f64::consts::PI;
 
@@ -160,7 +161,7 @@ fn wendland_c6_shape(q: Real, a: Real, b: Real) -> Real {
 }
 
 /// The quadrature that validates the kernels rejects the constants and polynomials of the
-/// design notes (README of the seeds): it is a real check, not a tautology.
+/// design notes (`docs/theory.md`): it is a real check, not a tautology.
 #[test]
 fn quadrature_catches_the_design_note_errors() {
     let h: Real = 0.7;

@@ -2,90 +2,38 @@
 //! leaves an output folder whose `.pvd` is well-formed XML listing only complete, readable
 //! `.vtu` frames, and whose `diagnostics.csv` holds only complete rows.
 //!
-//! The runs happen in child processes: this test binary re-executes itself with
-//! [`CHILD_OUT`] set, running only [`child_process_run`], which then runs a scene into that
-//! folder. The parent kills it (SIGKILL, via `Child::kill`) at a spread of moments, or starts
-//! it under a file-size limit (`ulimit -f`, with SIGXFSZ ignored, so that a write past the
-//! limit fails with `EFBIG` as on a full disk), and inspects what is left.
+//! The runs happen in child processes of the helper binary `integrity-child`
+//! (`tests/src/bin/integrity-child.rs`), which runs a scene into a folder. The test kills it
+//! (SIGKILL, via `Child::kill`) at a spread of moments, or starts it under a file-size limit
+//! (`ulimit -f`, with SIGXFSZ ignored, so that a write past the limit fails with `EFBIG` as on
+//! a full disk), and inspects what is left.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use geosph_io::PvdCollection;
-use geosph_runner::{NoObserver, RunOptions, run};
-use geosph_scene::Scene;
 use vtkio::model::{DataSet, Piece, Vtk};
 
-/// The output folder of the child run; the child test does nothing without it.
-const CHILD_OUT: &str = "GEOSPH_INTEGRITY_CHILD_OUT";
-/// Which scene the child runs: `long` (killed) or `small` (runs into the file-size limit).
-const CHILD_SCENE: &str = "GEOSPH_INTEGRITY_CHILD_SCENE";
-/// Exit code of a child whose run returned an error.
+/// Exit code of a child whose run returned an error (`tests/src/bin/integrity-child.rs`).
 const RUN_FAILED: i32 = 3;
 
-fn child_scene(kind: &str) -> Scene {
-    let mut scene = Scene::from_ron(dam_break::DEFAULT_SCENE).unwrap();
-    scene.end_time = 10.0;
-    if kind == "small" {
-        // ≈ 250 particles: a frame is far below the file-size limit, while diagnostics.csv
-        // (a row per step) passes it after a few hundred steps.
-        scene.dx = 0.1;
-        scene.output.interval = 0.01;
-        scene.output.sample_interval = 1e-4;
-    } else {
-        // A frame every few steps, so that kills often land in the middle of writing one.
-        scene.dx = 0.04;
-        scene.output.interval = 0.002;
-        scene.output.sample_interval = 0.001;
-    }
-    scene
-}
-
-/// The child side: runs a scene into `$GEOSPH_INTEGRITY_CHILD_OUT`; exits with
-/// [`RUN_FAILED`] and the error on standard error when the run fails. Without the variable
-/// (in an ordinary test run) it returns at once.
-#[test]
-fn child_process_run() {
-    let Some(out) = std::env::var_os(CHILD_OUT) else {
-        return;
-    };
-    let kind = std::env::var(CHILD_SCENE).unwrap_or_default();
-    let options = RunOptions {
-        out_dir: Some(PathBuf::from(out)),
-        threads: Some(1),
-        ..Default::default()
-    };
-    match run(&child_scene(&kind), &options, &mut NoObserver) {
-        Ok(_) => std::process::exit(0),
-        Err(error) => {
-            eprintln!("error: {error}");
-            std::process::exit(RUN_FAILED);
-        }
-    }
-}
-
-/// This test binary, running only [`child_process_run`] into `out`; started by itself or,
-/// with `wrapper` (e.g. `["bash", "-c", script]`), by a program that then execs it.
+/// The helper binary `integrity-child` running the scene `kind` (`long`: killed; `small`: runs
+/// into the file-size limit) into `out`; started by itself or, with `wrapper` (e.g.
+/// `["bash", "-c", script]`), by a program that then execs it.
 fn child_command(wrapper: &[&str], out: &Path, kind: &str) -> Command {
-    let this = std::env::current_exe().unwrap();
+    let child = env!("CARGO_BIN_EXE_integrity-child");
     let mut command = match wrapper.split_first() {
         Some((program, args)) => {
             let mut command = Command::new(program);
-            command.args(args).arg(&this);
+            command.args(args).arg(child);
             command
         }
-        None => Command::new(&this),
+        None => Command::new(child),
     };
     command
-        .args([
-            "output_integrity::child_process_run",
-            "--exact",
-            "--nocapture",
-            "--test-threads=1",
-        ])
-        .env(CHILD_OUT, out)
-        .env(CHILD_SCENE, kind)
+        .arg(out)
+        .arg(kind)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
@@ -236,10 +184,6 @@ fn sigkill_at_any_moment_leaves_complete_frames_and_a_valid_pvd() {
 
 #[test]
 fn a_write_error_stops_the_run_with_a_message_and_leaves_complete_files() {
-    if Command::new("bash").arg("-c").arg("true").status().is_err() {
-        eprintln!("no bash: the file-size-limit case is skipped");
-        return;
-    }
     let folder = scratch("integrity-write-error");
     let out = folder.join("out");
     // 64 KiB per file; SIGXFSZ ignored (kept across exec), so writes fail with EFBIG.

@@ -157,10 +157,15 @@ fn check_hydrostatic<const D: usize>(
     for (layer, &(y, p)) in layers.iter().enumerate() {
         let exact = rho * g * (depth - y);
         let error = (p - exact).abs() / exact;
-        // The layer touching the bed sees the wall only through the extrapolated dummy
-        // pressure and sits 2–4 % off (measured: −2.3 % in 2D, −3.8 % in 3D with Molteni
-        // diffusion); it gets 5 %, every other layer 2 %.
-        let tolerance = if layer == 0 { 0.05 } else { 0.02 };
+        // The layer touching the bed sees the wall only through the dummy pressure
+        // extrapolated from the fluid (Adami et al. 2012), a closure that places the wall to
+        // within a particle layer: its bound is the hydrostatic increment of one layer,
+        // ρ g dx. Every other layer is held to 2 % of ρ g (H − y).
+        let tolerance = if layer == 0 {
+            g * rho * dx / exact
+        } else {
+            0.02
+        };
         assert!(
             error < tolerance,
             "layer at y = {y:.3}: p = {p:.1} Pa, ρg(H − y) = {exact:.1} Pa, error {:.2} %",

@@ -200,19 +200,24 @@ impl Case {
             }
             Case::K0Column => {
                 let summary = run(&scene, &options, &mut NoObserver)?;
-                let geostatic = summary
-                    .geostatic
-                    .clone()
+                let stage = summary
+                    .stage
+                    .as_ref()
                     .ok_or("the scene has no geostatic stage")?;
+                let figure = |name| {
+                    stage
+                        .figure(name)
+                        .ok_or(format!("the geostatic stage reports no {name}"))
+                };
+                let lateral_ratio = figure("lateral_ratio_mean")?;
                 let k0 = 0.3 / 0.7;
-                let error = geostatic
-                    .vertical_stress_error_mean
-                    .max((geostatic.lateral_ratio.1 / k0 - 1.0).abs());
-                (summary, geostatic.lateral_ratio.1, error)
+                let error =
+                    figure("vertical_stress_error_mean")?.max((lateral_ratio / k0 - 1.0).abs());
+                (summary, lateral_ratio, error)
             }
         };
         let wall_time = started.elapsed().as_secs_f64();
-        let steps = summary.steps + summary.geostatic.as_ref().map_or(0, |g| g.steps);
+        let steps = summary.steps + summary.stage.as_ref().map_or(0, |stage| stage.steps);
         Ok(Measurement {
             particles: summary.fluid_particles,
             steps,

@@ -294,7 +294,7 @@ impl<const D: usize> Observer<D> for RunoutTracker {
 /// The result of a run.
 #[derive(Clone, Debug)]
 pub struct Report {
-    /// The runner's summary (with the geostatic report, if the scene had a stage).
+    /// The runner's summary (with the geostatic stage's report, if the scene had one).
     pub summary: Summary,
     /// The initial column.
     pub column: Column,

@@ -6,13 +6,11 @@ use geosph_core::{Particles, Real};
 use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_neighbours::SearchError;
 use geosph_sph::lattice::{lattice_gradient_factor, lattice_kernel_sum};
-use geosph_sph::{
-    ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Solver, SphSetup, Viscosity,
-};
+use geosph_sph::{ArtificialMonaghan1992, LaminarMorris1997, Solver, SphSetup, ViscousTerm};
 use geosph_time::{Integrator, Scheme};
 use serde::{Deserialize, Serialize};
 
-use crate::diffusion::{DeltaAntuono2010, DeltaMolteni2009, DensityDiffusion, NoDiffusion};
+use crate::diffusion::{DeltaAntuono2010, DeltaMolteni2009, DiffusionTerm};
 use crate::eos::{EosKind, EquationOfState};
 use crate::incompressible::{
     Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
@@ -58,6 +56,44 @@ pub enum DiffusionConfig {
         /// δ, typically 0.1.
         delta: Real,
     },
+}
+
+impl ViscosityConfig {
+    /// The term for smoothing length `h` and sound speed `sound_speed` (the artificial
+    /// viscosity's c̄).
+    pub fn term(&self, h: Real, sound_speed: Real) -> ViscousTerm {
+        match *self {
+            Self::None => ViscousTerm::Inviscid,
+            Self::Artificial { alpha, beta } => ViscousTerm::Artificial(ArtificialMonaghan1992 {
+                alpha,
+                beta,
+                smoothing_length: h,
+                sound_speed,
+            }),
+            Self::Laminar {
+                kinematic_viscosity,
+            } => ViscousTerm::Laminar(LaminarMorris1997 {
+                kinematic_viscosity,
+            }),
+        }
+    }
+}
+
+impl DiffusionConfig {
+    /// The term for smoothing length `h` and sound speed `sound_speed` (c₀ of δ h c₀).
+    pub fn term<const D: usize>(&self, h: Real, sound_speed: Real) -> DiffusionTerm<D> {
+        match *self {
+            Self::None => DiffusionTerm::None,
+            Self::Molteni { delta } => DiffusionTerm::Molteni(DeltaMolteni2009 {
+                delta,
+                smoothing_length: h,
+                sound_speed,
+            }),
+            Self::Antuono { delta } => {
+                DiffusionTerm::Antuono(DeltaAntuono2010::new(delta, h, sound_speed))
+            }
+        }
+    }
 }
 
 /// Density by continuity or by summation.
@@ -201,8 +237,8 @@ pub enum IncompressibleMethod {
     Dfsph,
 }
 
-/// Builds the WCSPH solver that `config` describes, monomorphised over the kernel, viscosity
-/// and diffusion it names.
+/// Builds the WCSPH solver that `config` describes, monomorphised over the kernel it names
+/// (its pair loop over the viscosity and diffusion as well, [`WcsphSystem`]).
 pub fn build_wcsph<const D: usize>(
     config: &WcsphConfig,
     setup: SphSetup<D>,
@@ -229,68 +265,13 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
     type Output = Result<Box<dyn Solver<D>>, SearchError>;
 
     fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let h = kernel.smoothing_length();
-        let c0 = self.setup.sound_speed;
-        match self.config.viscosity {
-            ViscosityConfig::None => self.with_viscosity(kernel, Inviscid),
-            ViscosityConfig::Artificial { alpha, beta } => self.with_viscosity(
-                kernel,
-                ArtificialMonaghan1992 {
-                    alpha,
-                    beta,
-                    smoothing_length: h,
-                    sound_speed: c0,
-                },
-            ),
-            ViscosityConfig::Laminar {
-                kinematic_viscosity,
-            } => self.with_viscosity(
-                kernel,
-                LaminarMorris1997 {
-                    kinematic_viscosity,
-                },
-            ),
-        }
-    }
-}
-
-impl<const D: usize> WcsphBuilder<'_, D> {
-    fn with_viscosity<K: Kernel<D>, V: Viscosity<D>>(
-        self,
-        kernel: K,
-        viscosity: V,
-    ) -> Result<Box<dyn Solver<D>>, SearchError> {
-        let h = kernel.smoothing_length();
-        let c0 = self.setup.sound_speed;
-        match self.config.diffusion {
-            DiffusionConfig::None => self.finish(kernel, viscosity, NoDiffusion),
-            DiffusionConfig::Molteni { delta } => self.finish(
-                kernel,
-                viscosity,
-                DeltaMolteni2009 {
-                    delta,
-                    smoothing_length: h,
-                    sound_speed: c0,
-                },
-            ),
-            DiffusionConfig::Antuono { delta } => {
-                self.finish(kernel, viscosity, DeltaAntuono2010::new(delta, h, c0))
-            }
-        }
-    }
-
-    fn finish<K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>(
-        self,
-        kernel: K,
-        viscosity: V,
-        diffusion: F,
-    ) -> Result<Box<dyn Solver<D>>, SearchError> {
         let config = self.config;
         let setup = self.setup;
+        let (h, c0) = (kernel.smoothing_length(), setup.sound_speed);
         let eos = EquationOfState {
             kind: config.equation_of_state,
             rest_density: setup.rest_density,
-            sound_speed: setup.sound_speed,
+            sound_speed: c0,
             background_pressure: config.background_pressure,
         };
         let wall_condition = DummyAdami2012 {
@@ -302,8 +283,8 @@ impl<const D: usize> WcsphBuilder<'_, D> {
             kernel,
             setup.domain,
             eos,
-            viscosity,
-            diffusion,
+            config.viscosity.term(h, c0),
+            config.diffusion.term(h, c0),
             setup.gravity,
             setup.walls,
             wall_condition,
@@ -315,7 +296,7 @@ impl<const D: usize> WcsphBuilder<'_, D> {
             DensityConfig::Continuity => DensityMode::Continuity,
             DensityConfig::Summation => DensityMode::Summation,
         };
-        let integrator = Integrator::new(config.integrator, self.fluid.len(), false);
+        let integrator = Integrator::new(config.integrator, self.fluid.len());
         system.lists.reorder_every = config.reorder_every;
         let mut solver = Wcsph::new(system, integrator, self.fluid);
         solver.cfl = config.cfl;
@@ -325,7 +306,7 @@ impl<const D: usize> WcsphBuilder<'_, D> {
 }
 
 /// Builds the incompressible solver `method` that `config` describes, monomorphised over the
-/// kernel and viscosity it names.
+/// kernel it names (the viscous term is resolved once per pass: it acts once per step).
 pub fn build_incompressible<const D: usize>(
     method: IncompressibleMethod,
     config: &IncompressibleConfig,
@@ -355,35 +336,6 @@ impl<const D: usize> KernelVisitor<D> for IncompressibleBuilder<'_, D> {
     type Output = Result<Box<dyn Solver<D>>, SearchError>;
 
     fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        match self.config.viscosity {
-            ViscosityConfig::None => self.with_viscosity(kernel, Inviscid),
-            ViscosityConfig::Artificial { alpha, beta } => {
-                let viscosity = ArtificialMonaghan1992 {
-                    alpha,
-                    beta,
-                    smoothing_length: kernel.smoothing_length(),
-                    sound_speed: self.setup.sound_speed,
-                };
-                self.with_viscosity(kernel, viscosity)
-            }
-            ViscosityConfig::Laminar {
-                kinematic_viscosity,
-            } => self.with_viscosity(
-                kernel,
-                LaminarMorris1997 {
-                    kinematic_viscosity,
-                },
-            ),
-        }
-    }
-}
-
-impl<const D: usize> IncompressibleBuilder<'_, D> {
-    fn with_viscosity<K: Kernel<D>, V: Viscosity<D>>(
-        self,
-        kernel: K,
-        viscosity: V,
-    ) -> Result<Box<dyn Solver<D>>, SearchError> {
         let config = self.config;
         let spacing = self.setup.spacing;
         match self.method {
@@ -392,29 +344,33 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
                 let mut method = Pcisph::new::<D, K>(&kernel, spacing, mass);
                 // The system's diagonals carry the gradient correction; so must the prototype's.
                 method.prototype_diagonal /= lattice_gradient_factor(&kernel, spacing);
-                self.finish(kernel, viscosity, method)
+                self.finish(kernel, method)
             }
             IncompressibleMethod::Iisph => {
                 let method = Iisph {
                     relaxation: config.relaxation,
                     ..Iisph::default()
                 };
-                self.finish(kernel, viscosity, method)
+                self.finish(kernel, method)
             }
             IncompressibleMethod::Dfsph => {
                 let method = Dfsph::new(config.divergence_solve, config.target_divergence_error);
-                self.finish(kernel, viscosity, method)
+                self.finish(kernel, method)
             }
         }
     }
+}
 
-    fn finish<K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D> + 'static>(
+impl<const D: usize> IncompressibleBuilder<'_, D> {
+    fn finish<K: Kernel<D>, M: PressureMethod<D> + 'static>(
         self,
         kernel: K,
-        viscosity: V,
         method: M,
     ) -> Result<Box<dyn Solver<D>>, SearchError> {
         let (config, setup) = (self.config, self.setup);
+        let viscosity = config
+            .viscosity
+            .term(kernel.smoothing_length(), setup.sound_speed);
         let system = PressureSystem::new(
             kernel,
             setup.domain,

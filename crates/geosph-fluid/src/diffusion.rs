@@ -1,5 +1,5 @@
-//! Density diffusion (δ-SPH) terms of the continuity equation, as type parameters of the pair
-//! loop.
+//! Density diffusion (δ-SPH) terms of the continuity equation: each a type the WCSPH pair loop
+//! is monomorphised over, and [`DiffusionTerm`], the one a scene chooses at run time.
 
 use geosph_core::{Domain, Matrix, NeighbourList, Real, Vector};
 use geosph_kernels::{Kernel, cspm};
@@ -42,8 +42,9 @@ impl<const D: usize> DensityDiffusion<D> for NoDiffusion {
 /// D_i = δ h c₀ Σ_j ψ_ij · ∇_i W_ij V_j,  ψ_ij = 2 (ρ_j − ρ_i) x_ji / |x_ji|²,
 ///
 /// i.e. 2 δ h c₀ Σ_j (ρ_i − ρ_j) x_ij·∇_i W_ij / (|x_ij|² + 0.01 h²) V_j with x_ij = x_i − x_j
-/// (the 0.01 h² guards coincident particles; h is the kernel's, as in [`Pair::inv_r2_eta2`]). It diffuses density differences, including the
-/// hydrostatic stratification, which [`DeltaAntuono2010`] leaves alone.
+/// (the 0.01 h² guards coincident particles; h is the kernel's, as in [`Pair::inv_r2_eta2`]).
+/// It diffuses density differences, including the hydrostatic stratification, which
+/// [`DeltaAntuono2010`] leaves alone.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DeltaMolteni2009 {
     /// δ (0.1 is usual).
@@ -157,5 +158,60 @@ impl<const D: usize> DensityDiffusion<D> for DeltaAntuono2010<D> {
                 * base.sound_speed
                 * gradient_sum.dot(&pair.grad)
                 * volume_j
+    }
+}
+
+/// A density-diffusion term chosen at run time. The WCSPH rate pass resolves it to its type
+/// once per evaluation ([`DiffusionTerm::visit`]), so the pair loop is monomorphised over the
+/// term while the rest of the solver is compiled once per kernel.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DiffusionTerm<const D: usize> {
+    /// [`NoDiffusion`].
+    None,
+    /// [`DeltaMolteni2009`].
+    Molteni(DeltaMolteni2009),
+    /// [`DeltaAntuono2010`].
+    Antuono(DeltaAntuono2010<D>),
+}
+
+/// A computation generic over the diffusion term, called by [`DiffusionTerm::visit`].
+pub trait DiffusionVisitor<const D: usize> {
+    /// What the computation returns.
+    type Output;
+
+    /// Runs the computation with the term `diffusion`.
+    fn visit<F: DensityDiffusion<D>>(self, diffusion: &F) -> Self::Output;
+}
+
+impl<const D: usize> DiffusionTerm<D> {
+    /// [`DensityDiffusion::prepare`] of the term.
+    pub fn prepare<K: Kernel<D>>(
+        &mut self,
+        kernel: &K,
+        domain: &Domain<D>,
+        position: &[Vector<D>],
+        density: &[Real],
+        volume: &[Real],
+        neighbours: &NeighbourList,
+    ) {
+        match self {
+            Self::None => {}
+            Self::Molteni(term) => {
+                term.prepare(kernel, domain, position, density, volume, neighbours)
+            }
+            Self::Antuono(term) => {
+                term.prepare(kernel, domain, position, density, volume, neighbours)
+            }
+        }
+    }
+
+    /// Calls `visitor` with the term as its own type.
+    #[inline]
+    pub fn visit<T: DiffusionVisitor<D>>(&self, visitor: T) -> T::Output {
+        match self {
+            Self::None => visitor.visit(&NoDiffusion),
+            Self::Molteni(term) => visitor.visit(term),
+            Self::Antuono(term) => visitor.visit(term),
+        }
     }
 }

@@ -5,11 +5,11 @@ use geosph_boundary::{DummyAdami2012, WallParticles};
 use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
-use geosph_sph::{Pair, PairLists, Viscosity};
+use geosph_sph::{Pair, PairLists, Viscosity, ViscousTerm, ViscousVisitor};
 use geosph_time::{ExplicitSystem, Rates};
 use rayon::prelude::*;
 
-use crate::diffusion::DensityDiffusion;
+use crate::diffusion::{DensityDiffusion, DiffusionTerm, DiffusionVisitor};
 use crate::eos::EquationOfState;
 
 /// How the density evolves.
@@ -21,8 +21,9 @@ pub enum DensityMode {
     Summation,
 }
 
-/// The physics of one WCSPH rate evaluation, monomorphised over the kernel `K`, the viscosity
-/// `V` and the density diffusion `F`.
+/// The physics of one WCSPH rate evaluation, monomorphised over the kernel `K`; the pair loop
+/// of the rates is monomorphised over the viscous and diffusion terms as well, resolved from
+/// [`ViscousTerm`] and [`DiffusionTerm`] once per evaluation.
 ///
 /// Momentum in the symmetric, momentum-conserving form (Monaghan 1992, eq. 3.3):
 ///
@@ -32,7 +33,7 @@ pub enum DensityMode {
 /// pressure and density of [`DummyAdami2012`]. Continuity:
 /// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij + D_i, with the prescribed wall velocity for walls
 /// and the diffusion D_i over fluid neighbours only.
-pub struct WcsphSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> {
+pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     /// Smoothing kernel.
     pub kernel: K,
     /// Fluid–fluid, fluid–wall and wall–fluid pairs, with their Verlet skin and Z-order
@@ -41,9 +42,9 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: Density
     /// Equation of state.
     pub eos: EquationOfState,
     /// Viscous term.
-    pub viscosity: V,
+    pub viscosity: ViscousTerm,
     /// Density diffusion.
-    pub diffusion: F,
+    pub diffusion: DiffusionTerm<D>,
     /// Body-force acceleration g.
     pub gravity: Vector<D>,
     /// XSPH factor ε (0: off) of dx/dt = v + ε Σ_j m_j/ρ̄_ij (v_j − v_i) W_ij (Monaghan 1989).
@@ -65,9 +66,7 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: Density
     pressure_term: Vec<Real>,
 }
 
-impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
-    WcsphSystem<D, K, V, F>
-{
+impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
     /// A system on `domain` with fixed `walls`, whose pair lists have a Verlet skin of
     /// `skin_fraction` × the support radius ([`PairLists`]).
     #[allow(clippy::too_many_arguments)]
@@ -75,8 +74,8 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
         kernel: K,
         domain: geosph_core::Domain<D>,
         eos: EquationOfState,
-        viscosity: V,
-        diffusion: F,
+        viscosity: ViscousTerm,
+        diffusion: DiffusionTerm<D>,
         gravity: Vector<D>,
         walls: WallParticles<D>,
         wall_condition: DummyAdami2012<D>,
@@ -179,9 +178,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>>
     }
 }
 
-impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> ExplicitSystem<D>
-    for WcsphSystem<D, K, V, F>
-{
+impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
     type Error = SearchError;
 
     fn prepare(&mut self, fluid: &mut Particles<D>) -> Result<(), SearchError> {
@@ -241,19 +238,86 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
             self.lists.inner(),
         );
 
+        self.viscosity.visit(RatePass {
+            kernel: self.kernel,
+            lists: &self.lists,
+            gravity: self.gravity,
+            walls: &self.walls,
+            volume: &self.volume,
+            pressure_term: &self.pressure_term,
+            summation: self.density_mode == DensityMode::Summation,
+            fluid,
+            rates: &mut *rates,
+            diffusion: &self.diffusion,
+        });
+        if self.xsph > 0.0 {
+            self.xsph_correction(fluid, &mut rates.position_correction);
+        }
+    }
+
+    fn finish_stage(&mut self, fluid: &mut Particles<D>) {
+        self.update_pressure(fluid);
+    }
+}
+
+/// The pair loop of one rate evaluation: dv_i/dt and dρ_i/dt of every particle, dispatched
+/// by [`ViscousTerm::visit`] and then [`DiffusionTerm::visit`] to [`RatePass::run`],
+/// monomorphised over both terms.
+struct RatePass<'a, const D: usize, K: Kernel<D>> {
+    kernel: K,
+    lists: &'a PairLists<D>,
+    gravity: Vector<D>,
+    walls: &'a WallParticles<D>,
+    volume: &'a [Real],
+    pressure_term: &'a [Real],
+    summation: bool,
+    fluid: &'a Particles<D>,
+    rates: &'a mut Rates<D>,
+    diffusion: &'a DiffusionTerm<D>,
+}
+
+impl<const D: usize, K: Kernel<D>> ViscousVisitor<D> for RatePass<'_, D, K> {
+    type Output = ();
+
+    fn visit<V: Viscosity<D>>(self, viscosity: V) {
+        let diffusion = self.diffusion;
+        diffusion.visit(WithViscosity {
+            pass: self,
+            viscosity,
+        });
+    }
+}
+
+/// [`RatePass`] with its viscous term resolved, waiting for the diffusion term.
+struct WithViscosity<'a, const D: usize, K: Kernel<D>, V> {
+    pass: RatePass<'a, D, K>,
+    viscosity: V,
+}
+
+impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> DiffusionVisitor<D>
+    for WithViscosity<'_, D, K, V>
+{
+    type Output = ();
+
+    fn visit<F: DensityDiffusion<D>>(self, diffusion: &F) {
+        self.pass.run(self.viscosity, diffusion);
+    }
+}
+
+impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
+    fn run<V: Viscosity<D>, F: DensityDiffusion<D>>(self, viscosity: V, diffusion: &F) {
         let Self {
             kernel,
             lists,
-            viscosity,
-            diffusion,
             gravity,
             walls,
             volume,
             pressure_term,
+            summation,
+            fluid,
+            rates,
             ..
         } = self;
-        let (kernel, viscosity, diffusion, gravity) = (*kernel, *viscosity, &*diffusion, *gravity);
-        let summation = self.density_mode == DensityMode::Summation;
         let h = kernel.smoothing_length();
         let Particles {
             position,
@@ -316,12 +380,5 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Expl
                 *acceleration = a_i;
                 *density_rate = if summation { 0.0 } else { drho_i };
             });
-        if self.xsph > 0.0 {
-            self.xsph_correction(fluid, &mut rates.position_correction);
-        }
-    }
-
-    fn finish_stage(&mut self, fluid: &mut Particles<D>) {
-        self.update_pressure(fluid);
     }
 }

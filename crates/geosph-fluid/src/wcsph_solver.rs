@@ -4,20 +4,19 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_sph::{
-    Solver, SolverError, SolverState, StepReport, Viscosity, density_errors, event_step, max_speed,
+    Solver, SolverError, SolverState, StepReport, density_errors, event_step, max_speed,
 };
 use geosph_time::{Integrator, Rates, StepLimits, time_step};
 
-use crate::diffusion::DensityDiffusion;
 use crate::wcsph::WcsphSystem;
 
 /// Weakly compressible SPH: [`WcsphSystem`] advanced by an explicit [`Integrator`] with the
 /// adaptive step of [`time_step`], Z-order sorting on the schedule of the system's
 /// [`PairLists`](geosph_sph::PairLists) and Shepard density re-initialisation every
 /// `shepard_every` steps (0: never).
-pub struct Wcsph<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> {
+pub struct Wcsph<const D: usize, K: Kernel<D>> {
     /// The physics.
-    pub system: WcsphSystem<D, K, V, F>,
+    pub system: WcsphSystem<D, K>,
     /// The time integrator.
     pub integrator: Integrator<D>,
     /// Courant number of the acoustic limit.
@@ -27,10 +26,10 @@ pub struct Wcsph<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffus
     steps: usize,
 }
 
-impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Wcsph<D, K, V, F> {
+impl<const D: usize, K: Kernel<D>> Wcsph<D, K> {
     /// A solver for `fluid`; creates its pressure field from the current density.
     pub fn new(
-        system: WcsphSystem<D, K, V, F>,
+        system: WcsphSystem<D, K>,
         integrator: Integrator<D>,
         fluid: &mut Particles<D>,
     ) -> Self {
@@ -46,9 +45,7 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Wcsp
     }
 }
 
-impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Solver<D>
-    for Wcsph<D, K, V, F>
-{
+impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
     fn name(&self) -> &'static str {
         "wcsph"
     }
@@ -123,9 +120,6 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Solv
         arrays.push_matrices("acceleration", &rates.acceleration);
         arrays.push("density_rate", &rates.density_rate);
         arrays.push_matrices("position_correction", &rates.position_correction);
-        if let Some(stress_rate) = &rates.stress_rate {
-            arrays.push_matrices("stress_rate", stress_rate);
-        }
         if let Some(listed) = self.system.lists.listed_positions() {
             arrays.push_matrices("listed_position", listed);
         }
@@ -149,10 +143,6 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, F: DensityDiffusion<D>> Solv
                 .map(|m| m[(0, 0)])
                 .collect(),
             position_correction: arrays.take_matrices("position_correction", n)?,
-            stress_rate: match arrays.contains("stress_rate") {
-                true => Some(arrays.take_matrices("stress_rate", n)?),
-                false => None,
-            },
         };
         self.integrator.restore_rates(rates, current);
         if arrays.contains("listed_position") {

@@ -24,9 +24,9 @@ use geosph_fluid::incompressible::{
     WallPressure,
 };
 use geosph_kernels::{Kernel, WendlandC2};
-use geosph_sph::Inviscid;
+use geosph_sph::ViscousTerm;
 
-type System = PressureSystem<2, WendlandC2<2>, Inviscid>;
+type System = PressureSystem<2, WendlandC2<2>>;
 
 const RHO0: Real = 1000.0;
 
@@ -88,7 +88,7 @@ fn converged_iisph_pressure_equals_a_direct_sparse_solve() {
         WendlandC2::<2>::new(1.3 * dx),
         Domain::new(Vector::<2>::repeat(-0.2), Vector::<2>::repeat(0.6)).unwrap(),
         RHO0,
-        Inviscid,
+        ViscousTerm::Inviscid,
         Vector::<2>::new(0.0, -9.81),
         generate::tank(&Vector::zeros(), &tank, dx, 3, true, RHO0),
         WallPressure::Hydrostatic,

@@ -24,8 +24,9 @@ use serde::{Deserialize, Serialize};
 pub const FILE_NAME: &str = "checkpoint.bin";
 
 /// Version of the file layout; a checkpoint of another version is refused. Version 2 added
-/// the particles that left the domain to [`Progress`].
-pub const FORMAT_VERSION: u32 = 2;
+/// the particles that left the domain to [`Progress`], version 3 the report of the solver's
+/// stage before t = 0.
+pub const FORMAT_VERSION: u32 = 3;
 
 const MAGIC: &[u8; 8] = b"GEOSPHCP";
 const HEADER_LEN: usize = 8 + 4 + 8 + 4;
@@ -93,6 +94,8 @@ pub struct Progress {
     pub escaped_mass: Real,
     /// Simulated time at which the first of them was removed, s.
     pub first_escape: Option<Real>,
+    /// What the solver's stage before t = 0 reached ([`geosph_sph::Solver::initial_stage`]).
+    pub stage: Option<geosph_sph::StageReport>,
 }
 
 /// The particles, every field that exists, as named arrays.

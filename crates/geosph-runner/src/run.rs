@@ -49,6 +49,10 @@ pub struct Summary {
     pub scene: String,
     /// Solver name.
     pub solver: &'static str,
+    /// What the particles are ([`Solver::material`]): "fluid" or "soil".
+    pub material: &'static str,
+    /// Whether the solver iterates a pressure solve ([`Solver::iterates`]).
+    pub iterative: bool,
     /// 2 or 3.
     pub dimension: usize,
     /// Fluid particles.
@@ -82,8 +86,9 @@ pub struct Summary {
     pub escaped_mass_fraction: Real,
     /// Simulated time at which the first of them was removed, s.
     pub first_escape: Option<Real>,
-    /// The geostatic stage of a soil scene, run before t = 0.
-    pub geostatic: Option<geosph_soil::GeostaticReport>,
+    /// The stage the solver ran before t = 0 ([`Solver::initial_stage`]; the soil's
+    /// geostatic stage), also after a restart from a checkpoint written after it.
+    pub stage: Option<geosph_sph::StageReport>,
 }
 
 impl std::fmt::Display for Summary {
@@ -93,11 +98,7 @@ impl std::fmt::Display for Summary {
             "scene              {} ({}D, {})",
             self.scene, self.dimension, self.solver
         )?;
-        let material = if self.solver == "soil-sph" {
-            "soil"
-        } else {
-            "fluid"
-        };
+        let material = self.material;
         writeln!(
             f,
             "particles          {} {material} + {} wall ({} bytes of fields per {material} particle)",
@@ -123,7 +124,7 @@ impl std::fmt::Display for Summary {
             100.0 * self.max_density_error
         )?;
         // The explicit solvers take one pass per step; only the pressure solvers iterate.
-        if !matches!(self.solver, "wcsph" | "soil-sph") {
+        if self.iterative {
             writeln!(
                 f,
                 "iterations         {:.1} per step (divergence solve {:.1})",
@@ -138,8 +139,8 @@ impl std::fmt::Display for Summary {
                 100.0 * self.escaped_mass_fraction
             )?;
         }
-        if let Some(geostatic) = &self.geostatic {
-            write!(f, "\n{geostatic}")?;
+        if let Some(stage) = &self.stage {
+            write!(f, "\n{stage}")?;
         }
         Ok(())
     }
@@ -228,7 +229,6 @@ fn run_in<const D: usize>(
     );
     let wall_particles = solver_inputs.walls.len();
     let limit_inputs = LimitInputs::of(&solver_inputs);
-    let mut geostatic = None;
     let built = match &scene.solver {
         SolverSpec::Wcsph(config) => build_wcsph(config, solver_inputs, &mut fluid),
         SolverSpec::Pcisph(config) => build_incompressible(
@@ -249,11 +249,7 @@ fn run_in<const D: usize>(
             solver_inputs,
             &mut fluid,
         ),
-        SolverSpec::Soil(config) => {
-            let built = geosph_soil::build_soil(config, solver_inputs, &mut fluid)?;
-            geostatic = built.geostatic;
-            Ok(built.solver)
-        }
+        SolverSpec::Soil(config) => Ok(geosph_soil::build_soil(config, solver_inputs, &mut fluid)?),
     };
     let mut solver: Box<dyn Solver<D>> = built.map_err(|source| RunError::Solver {
         time: 0.0,
@@ -278,6 +274,18 @@ fn run_in<const D: usize>(
             Some(saved.progress)
         }
         None => None,
+    };
+    // The solver's stage before t = 0 (the soil's geostatic stage), on a new run only: a
+    // checkpoint holds the state after it.
+    let stage = match &restart {
+        Some(progress) => progress.stage.clone(),
+        None => solver
+            .initial_stage(&mut fluid)
+            .map_err(|source| RunError::Solver {
+                time: 0.0,
+                step: 0,
+                source,
+            })?,
     };
     let mut columns = observer.columns();
     columns.extend(probes.columns().iter().map(String::as_str));
@@ -350,6 +358,7 @@ fn run_in<const D: usize>(
             samples: 1,
             rows: 1,
             frames: output.as_ref().map_or(0, |o| o.frames() as u64),
+            stage: stage.clone(),
             ..Progress::default()
         };
     }
@@ -550,6 +559,8 @@ fn run_in<const D: usize>(
     Ok(Summary {
         scene: scene.name.clone(),
         solver: solver.name(),
+        material: solver.material(),
+        iterative: solver.iterates(),
         dimension: D,
         fluid_particles: fluid.len(),
         wall_particles,
@@ -567,7 +578,7 @@ fn run_in<const D: usize>(
         escaped_mass_fraction: state.escaped_mass
             / (fluid.mass.iter().sum::<Real>() + state.escaped_mass),
         first_escape: state.first_escape,
-        geostatic,
+        stage,
     })
 }
 

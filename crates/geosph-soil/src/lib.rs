@@ -67,4 +67,4 @@ pub use element::{
 };
 pub use material::{DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial};
 #[cfg(feature = "sph")]
-pub use sph::{GeostaticReport, SoilBuild, SoilConfig, SoilError, build_soil};
+pub use sph::{GeostaticReport, SoilConfig, SoilError, build_soil};

@@ -27,6 +27,9 @@ pub mod viscosity;
 pub use density_error::{compression, density_errors};
 pub use lists::{Neighbour, PairLists};
 pub use setup::SphSetup;
-pub use solver::{Solver, SolverError, StepReport, event_step, max_speed};
+pub use solver::{Solver, SolverError, StageReport, StepReport, event_step, max_speed};
 pub use state::{SolverState, StateArrays, StateError};
-pub use viscosity::{ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Pair, Viscosity};
+pub use viscosity::{
+    ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Pair, Viscosity, ViscousTerm,
+    ViscousVisitor,
+};

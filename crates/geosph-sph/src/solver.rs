@@ -4,6 +4,7 @@
 use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_neighbours::SearchError;
+use serde::{Deserialize, Serialize};
 
 use crate::state::{SolverState, StateError};
 
@@ -32,6 +33,39 @@ pub enum SolverError {
     /// A saved state does not fit this solver (a restart from another scene's checkpoint).
     #[error(transparent)]
     State(#[from] StateError),
+    /// The stage run before t = 0 ([`Solver::initial_stage`]) failed.
+    #[error("{0}")]
+    Stage(String),
+}
+
+/// What a stage run before t = 0 reached (the soil's geostatic stage): a line for the run's
+/// summary and named figures for programs that check it.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StageReport {
+    /// The stage's name, e.g. "geostatic".
+    pub name: String,
+    /// Steps the stage took.
+    pub steps: usize,
+    /// What it reached, in one line.
+    pub text: String,
+    /// Its figures by name, e.g. `("lateral_ratio_mean", 0.43)`.
+    pub figures: Vec<(String, Real)>,
+}
+
+impl StageReport {
+    /// The figure called `name`, if the stage reports one.
+    pub fn figure(&self, name: &str) -> Option<Real> {
+        self.figures
+            .iter()
+            .find(|(figure, _)| figure == name)
+            .map(|&(_, value)| value)
+    }
+}
+
+impl std::fmt::Display for StageReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.text)
+    }
 }
 
 /// What a user can do about a failed search.
@@ -50,6 +84,28 @@ fn search_hint(error: &SearchError) -> &'static str {
 pub trait Solver<const D: usize>: Send {
     /// The method's name, e.g. "wcsph".
     fn name(&self) -> &'static str;
+
+    /// What the particles are, for reports: "fluid" unless the solver says otherwise.
+    fn material(&self) -> &'static str {
+        "fluid"
+    }
+
+    /// Whether a step iterates a pressure solve, so that its iteration counts are worth
+    /// reporting.
+    fn iterates(&self) -> bool {
+        false
+    }
+
+    /// Runs the stage the solver takes before t = 0 of a new run (the soil's geostatic stage)
+    /// and reports it; `None` when it has none. The runner calls it once, before the first
+    /// sample of a new run, and never on a restart: [`Solver::restore_state`] brings the
+    /// solver to where the stage and the saved steps left it.
+    fn initial_stage(
+        &mut self,
+        _particles: &mut Particles<D>,
+    ) -> Result<Option<StageReport>, SolverError> {
+        Ok(None)
+    }
 
     /// Advances the particles from `time` by one step of at most `max_dt`.
     fn step(

@@ -76,16 +76,12 @@ pub struct ArtificialMonaghan1992 {
 }
 
 impl ArtificialMonaghan1992 {
-    /// Π_ij of a pair with v_ij·x_ij = `approach`, 1/(|x_ij|² + 0.01 h²) = `inv_r2_eta2` and
-    /// ρ̄_ij = `rho_mean`: (−α c̄ μ_ij + β μ_ij²)/ρ̄_ij if the pair approaches, else 0. The soil
-    /// adds it to the stress term of the pair, −Π_ij 1 (Bui et al. 2008, eq. 32).
+    /// Π_ij = (−α c̄ μ_ij + β μ_ij²)/ρ̄_ij of an approaching pair with μ_ij = `mu` and
+    /// ρ̄_ij = `rho_mean`. The soil adds it to the stress term of the pair as −Π_ij 1 (Bui et
+    /// al. 2008, eq. 32); the caller forms μ_ij (and skips receding pairs), so that each
+    /// material keeps the rounding of its μ_ij.
     #[inline(always)]
-    pub fn pi(&self, approach: Real, inv_r2_eta2: Real, rho_mean: Real) -> Real {
-        if approach >= 0.0 {
-            return 0.0;
-        }
-        let h = self.smoothing_length;
-        let mu = h * approach * inv_r2_eta2;
+    pub fn pi(&self, mu: Real, rho_mean: Real) -> Real {
         (-self.alpha * self.sound_speed * mu + self.beta * mu * mu) / rho_mean
     }
 }
@@ -99,7 +95,8 @@ impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
         if approach >= 0.0 {
             return Vector::zeros();
         }
-        let pi = self.pi(approach, pair.inv_r2_eta2, 0.5 * (pair.rho_i + pair.rho_j));
+        let mu = self.smoothing_length * approach * pair.inv_r2_eta2;
+        let pi = self.pi(mu, 0.5 * (pair.rho_i + pair.rho_j));
         pair.grad * (-pair.mass_j * pi)
     }
 
@@ -135,6 +132,49 @@ impl<const D: usize> Viscosity<D> for LaminarMorris1997 {
     }
 }
 
+/// A viscous term chosen at run time, for a pass that runs once per step and need not be
+/// compiled once per term (the known acceleration of the incompressible solvers, whose
+/// pressure iterations, where the time goes, have no viscous term). [`ViscousTerm::visit`]
+/// resolves it to its type once per call, so the pair loop inside is monomorphised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ViscousTerm {
+    /// [`Inviscid`].
+    Inviscid,
+    /// [`ArtificialMonaghan1992`].
+    Artificial(ArtificialMonaghan1992),
+    /// [`LaminarMorris1997`].
+    Laminar(LaminarMorris1997),
+}
+
+/// A computation generic over the viscous term, called by [`ViscousTerm::visit`].
+pub trait ViscousVisitor<const D: usize> {
+    /// What the computation returns.
+    type Output;
+
+    /// Runs the computation with the term `viscosity`.
+    fn visit<V: Viscosity<D>>(self, viscosity: V) -> Self::Output;
+}
+
+impl ViscousTerm {
+    /// Calls `visitor` with the term as its own type.
+    #[inline]
+    pub fn visit<const D: usize, T: ViscousVisitor<D>>(self, visitor: T) -> T::Output {
+        match self {
+            Self::Inviscid => visitor.visit(Inviscid),
+            Self::Artificial(term) => visitor.visit(term),
+            Self::Laminar(term) => visitor.visit(term),
+        }
+    }
+
+    /// The kinematic viscosity ν that limits the time step (0 when it does not).
+    pub fn kinematic_viscosity(&self) -> Real {
+        match self {
+            Self::Laminar(term) => term.kinematic_viscosity,
+            Self::Inviscid | Self::Artificial(_) => 0.0,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -167,6 +207,23 @@ mod tests {
         let approaching = pair(Vector::<2>::new(-1.0, 0.0));
         // i moves towards j (−x); the force pushes i back (+x).
         assert!(av.acceleration(&approaching)[0] > 0.0);
+    }
+
+    /// Π_ij as the soil adds it to its stress term (Bui et al. 2008, eq. 33, with the P-wave
+    /// speed), by hand for two pairs.
+    #[test]
+    fn artificial_pressure_of_an_approaching_pair() {
+        let av = ArtificialMonaghan1992 {
+            alpha: 0.1,
+            beta: 0.0,
+            smoothing_length: 1.0,
+            sound_speed: 10.0,
+        };
+        // r_ij = (1, 0), v_ij = (−1, 0): μ = −1/1.01, Π = 0.1 · 10 / 1.01 / ρ̄ with ρ̄ = 2.
+        assert_relative_eq!(av.pi(-1.0 / 1.01, 2.0), 0.5 / 1.01, epsilon = 1e-12);
+        // β adds β μ²/ρ̄.
+        let quadratic = ArtificialMonaghan1992 { beta: 1.0, ..av };
+        assert_relative_eq!(quadratic.pi(-2.0, 2.0), (2.0 + 4.0) / 2.0, epsilon = 1e-12);
     }
 
     #[test]

@@ -1,13 +1,13 @@
 //! Explicit integration schemes.
 //!
-//! Each scheme advances position x, velocity v, density ρ and (for soil) stress σ by one step
+//! Each scheme advances position x, velocity v and density ρ by one step
 //! Δt using the [`Rates`] of an [`ExplicitSystem`]. The position rate is v + δv with the
 //! system's position correction δv (e.g. XSPH). All updates are per-particle parallel loops
 //! (rayon) that write only their own slot, so results do not depend on the thread count.
 
 use std::ops::{Add, Mul};
 
-use geosph_core::{Particles, Real, Tensor3, Vector};
+use geosph_core::{Particles, Real, Vector};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -23,8 +23,8 @@ pub enum Scheme {
     /// Symplectic (semi-implicit) Euler: v ← v + Δt a, then x ← x + Δt (v + δv). First order,
     /// one rate evaluation per step.
     SymplecticEuler,
-    /// Kick-drift-kick leap-frog (velocity Verlet): v, ρ, σ get half kicks before and after the
-    /// drift x ← x + Δt (v^{n+½} + δv). The end-of-step rates are evaluated at v, ρ, σ predicted
+    /// Kick-drift-kick leap-frog (velocity Verlet): v and ρ get half kicks before and after the
+    /// drift x ← x + Δt (v^{n+½} + δv). The end-of-step rates are evaluated at v, ρ predicted
     /// to t^{n+1} with the previous rates (as velocity-Verlet variants for dissipative forces
     /// do, Groot & Warren 1997), which keeps velocity- and density-dependent terms second
     /// order. One rate evaluation per step (the rates at the end of a step start the next).
@@ -55,7 +55,6 @@ struct StartState<const D: usize> {
     position: Vec<Vector<D>>,
     velocity: Vec<Vector<D>>,
     density: Vec<Real>,
-    stress: Option<Vec<Tensor3>>,
 }
 
 /// An explicit integrator: the [`Scheme`] plus its scratch arrays, allocated once.
@@ -72,26 +71,25 @@ pub struct Integrator<const D: usize> {
 }
 
 impl<const D: usize> Integrator<D> {
-    /// An integrator for `n` particles; `with_stress` for soil.
-    pub fn new(scheme: Scheme, n: usize, with_stress: bool) -> Self {
+    /// An integrator for `n` particles.
+    pub fn new(scheme: Scheme, n: usize) -> Self {
         let start = if scheme != Scheme::SymplecticEuler {
             StartState {
                 position: vec![Vector::zeros(); n],
                 velocity: vec![Vector::zeros(); n],
                 density: vec![0.0; n],
-                stress: with_stress.then(|| vec![Tensor3::zeros(); n]),
             }
         } else {
             StartState::default()
         };
         let accumulated = if scheme == Scheme::RungeKutta4 {
-            Rates::zeros(n, with_stress)
+            Rates::zeros(n)
         } else {
             Rates::default()
         };
         Self {
             scheme,
-            rates: Rates::zeros(n, with_stress),
+            rates: Rates::zeros(n),
             accumulated,
             position_rate: vec![Vector::zeros(); n],
             start,
@@ -130,9 +128,6 @@ impl<const D: usize> Integrator<D> {
             field.truncate(n);
         }
         start.density.truncate(n);
-        if let Some(stress) = &mut start.stress {
-            stress.truncate(n);
-        }
         self.accumulated.truncate(n);
         self.rates = rates;
         self.rates_current = current;
@@ -143,9 +138,6 @@ impl<const D: usize> Integrator<D> {
         permutation.apply(&mut self.rates.acceleration);
         permutation.apply(&mut self.rates.density_rate);
         permutation.apply(&mut self.rates.position_correction);
-        if let Some(stress_rate) = &mut self.rates.stress_rate {
-            permutation.apply(stress_rate);
-        }
     }
 
     /// Drops the entries of the particles `k` without `keep[k]` from every per-particle array,
@@ -163,9 +155,6 @@ impl<const D: usize> Integrator<D> {
             retain_sized(field, keep);
         }
         retain_sized(&mut start.density, keep);
-        if let Some(stress) = &mut start.stress {
-            retain_sized(stress, keep);
-        }
         self.invalidate();
     }
 
@@ -195,7 +184,7 @@ impl<const D: usize> Integrator<D> {
                 system.prepare(particles)?;
                 system.rates(particles, time, rates);
                 add_scaled(&mut particles.velocity, &rates.acceleration, dt);
-                kick_density_and_stress(particles, rates, dt);
+                add_scaled(&mut particles.density, &rates.density_rate, dt);
                 position_rate(x_rate, &particles.velocity, &rates.position_correction);
                 add_scaled(&mut particles.position, x_rate, dt);
                 system.finish_stage(particles);
@@ -228,13 +217,6 @@ impl<const D: usize> Integrator<D> {
                         *v = *v_half + a * half;
                         *rho = *rho_half + rho_rate * half;
                     });
-                if let (Some(soil), Some(saved), Some(stress_rate)) =
-                    (&mut particles.soil, &mut start.stress, &rates.stress_rate)
-                {
-                    add_scaled(&mut soil.stress, stress_rate, half);
-                    saved.copy_from_slice(&soil.stress);
-                    add_scaled(&mut soil.stress, stress_rate, half);
-                }
                 system.finish_stage(particles);
                 *rates_current = false;
                 system.prepare(particles)?;
@@ -295,12 +277,9 @@ impl<const D: usize> StartState<D> {
         self.position.copy_from_slice(&particles.position);
         self.velocity.copy_from_slice(&particles.velocity);
         self.density.copy_from_slice(&particles.density);
-        if let (Some(saved), Some(soil)) = (&mut self.stress, &particles.soil) {
-            saved.copy_from_slice(&soil.stress);
-        }
     }
 
-    /// v ← v_saved + Δt a, ρ ← ρ_saved + Δt ρ̇ (one fused pass), σ ← σ_saved + Δt σ̇.
+    /// v ← v_saved + Δt a, ρ ← ρ_saved + Δt ρ̇ (one fused pass).
     fn kick_from_saved(&self, particles: &mut Particles<D>, rates: &Rates<D>, dt: Real) {
         (
             particles.velocity.par_iter_mut(),
@@ -316,14 +295,9 @@ impl<const D: usize> StartState<D> {
                 *v = v_half + a * dt;
                 *rho = rho_half + rho_rate * dt;
             });
-        if let (Some(soil), Some(start), Some(rate)) =
-            (&mut particles.soil, &self.stress, &rates.stress_rate)
-        {
-            from_start(&mut soil.stress, start, rate, dt);
-        }
     }
 
-    /// x ← x⁰ + Δt ẋ, v ← v⁰ + Δt a, ρ ← ρ⁰ + Δt ρ̇, σ ← σ⁰ + Δt σ̇.
+    /// x ← x⁰ + Δt ẋ, v ← v⁰ + Δt a, ρ ← ρ⁰ + Δt ρ̇.
     fn advance(
         &self,
         particles: &mut Particles<D>,
@@ -344,11 +318,6 @@ impl<const D: usize> StartState<D> {
             &rates.density_rate,
             dt,
         );
-        if let (Some(soil), Some(start), Some(rate)) =
-            (&mut particles.soil, &self.stress, &rates.stress_rate)
-        {
-            from_start(&mut soil.stress, start, rate, dt);
-        }
     }
 }
 
@@ -357,17 +326,6 @@ impl<const D: usize> StartState<D> {
 fn retain_sized<T>(values: &mut Vec<T>, keep: &[bool]) {
     if !values.is_empty() {
         geosph_core::retain(values, keep);
-    }
-}
-
-fn kick_density_and_stress<const D: usize>(
-    particles: &mut Particles<D>,
-    rates: &Rates<D>,
-    dt: Real,
-) {
-    add_scaled(&mut particles.density, &rates.density_rate, dt);
-    if let (Some(soil), Some(stress_rate)) = (&mut particles.soil, &rates.stress_rate) {
-        add_scaled(&mut soil.stress, stress_rate, dt);
     }
 }
 
@@ -382,9 +340,6 @@ fn accumulate<const D: usize>(
     blend(&mut sum.acceleration, keep, &rates.acceleration, weight);
     blend(&mut sum.density_rate, keep, &rates.density_rate, weight);
     blend(&mut sum.position_correction, keep, x_rate, weight);
-    if let (Some(total), Some(rate)) = (&mut sum.stress_rate, &rates.stress_rate) {
-        blend(total, keep, rate, weight);
-    }
 }
 
 /// ẋ = v + δv.
@@ -461,7 +416,7 @@ mod tests {
         let omega = 2.0;
         let mut particles = Particles::<1>::at_rest(vec![Vector::<1>::new(1.0)], 1.0, 1.0);
         let mut system = Oscillators { omega };
-        let mut integrator = Integrator::new(scheme, 1, false);
+        let mut integrator = Integrator::new(scheme, 1);
         let dt = 1.0 / steps as Real;
         for n in 0..steps {
             integrator
@@ -504,7 +459,7 @@ mod tests {
         let omega: Real = 2.0;
         let mut particles = Particles::<1>::at_rest(vec![Vector::<1>::new(1.0)], 1.0, 1.0);
         let mut system = Oscillators { omega };
-        let mut integrator = Integrator::new(Scheme::LeapFrog, 1, false);
+        let mut integrator = Integrator::new(Scheme::LeapFrog, 1);
         let dt = 0.05;
         let energy = |p: &Particles<1>| {
             0.5 * p.velocity[0][0].powi(2) + 0.5 * (omega * p.position[0][0]).powi(2)

@@ -1,8 +1,11 @@
-//! Explicit time integration for geosph's explicit (weakly compressible and soil) solvers.
+//! Explicit time integration for geosph's weakly compressible solver, and the time-step
+//! limits every explicit solver uses. The soil advances its stress with the return map inside
+//! its own symplectic Euler step (`docs/soil.md`, "One step"), so no stress rate passes
+//! through these schemes.
 //!
 //! Modules:
 //! - [`rates`]: [`Rates`], the time derivatives a solver computes (acceleration, density rate,
-//!   position correction such as XSPH, stress rate), and the [`ExplicitSystem`] trait a solver
+//!   position correction such as XSPH), and the [`ExplicitSystem`] trait a solver
 //!   implements.
 //! - [`integrator`]: the schemes ([`Integrator`]): symplectic Euler, kick-drift-kick leap-frog,
 //!   predictor–corrector and classical RK4, each advancing [`geosph_core::Particles`] by Δt.
@@ -30,7 +33,7 @@
 //! }
 //!
 //! let mut particle = Particles::at_rest(vec![Vector::<2>::zeros()], 1.0, 1000.0);
-//! let mut integrator = Integrator::new(Scheme::LeapFrog, 1, false);
+//! let mut integrator = Integrator::new(Scheme::LeapFrog, 1);
 //! let dt = 0.01;
 //! for step in 0..100 {
 //!     integrator.step(&mut Falling, &mut particle, step as Real * dt, dt).unwrap();

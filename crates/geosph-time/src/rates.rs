@@ -1,12 +1,11 @@
 //! Time derivatives of the particle state and the trait of systems that compute them.
 
-use geosph_core::{Particles, Real, Tensor3, Vector};
+use geosph_core::{Particles, Real, Vector};
 
 /// The time derivatives of one particle set, written by [`ExplicitSystem::rates`].
 ///
 /// `position_correction` is added to the velocity when positions are advanced
 /// (dx/dt = v + δv), e.g. the XSPH term of Monaghan (1989); it is zero when unused.
-/// `stress_rate` exists only for solid (soil) systems.
 #[derive(Clone, Debug, Default)]
 pub struct Rates<const D: usize> {
     /// dv/dt.
@@ -15,18 +14,15 @@ pub struct Rates<const D: usize> {
     pub density_rate: Vec<Real>,
     /// δv in dx/dt = v + δv.
     pub position_correction: Vec<Vector<D>>,
-    /// dσ/dt (objective rate already included), for soil.
-    pub stress_rate: Option<Vec<Tensor3>>,
 }
 
 impl<const D: usize> Rates<D> {
-    /// Zero rates for `n` particles; with a stress rate when `with_stress`.
-    pub fn zeros(n: usize, with_stress: bool) -> Self {
+    /// Zero rates for `n` particles.
+    pub fn zeros(n: usize) -> Self {
         Self {
             acceleration: vec![Vector::zeros(); n],
             density_rate: vec![0.0; n],
             position_correction: vec![Vector::zeros(); n],
-            stress_rate: with_stress.then(|| vec![Tensor3::zeros(); n]),
         }
     }
 
@@ -49,9 +45,6 @@ impl<const D: usize> Rates<D> {
         geosph_core::retain(&mut self.acceleration, keep);
         geosph_core::retain(&mut self.density_rate, keep);
         geosph_core::retain(&mut self.position_correction, keep);
-        if let Some(stress_rate) = &mut self.stress_rate {
-            geosph_core::retain(stress_rate, keep);
-        }
     }
 
     /// Keeps the rates of the first `n` particles (the scratch of a restart with fewer
@@ -60,9 +53,6 @@ impl<const D: usize> Rates<D> {
         self.acceleration.truncate(n);
         self.density_rate.truncate(n);
         self.position_correction.truncate(n);
-        if let Some(stress_rate) = &mut self.stress_rate {
-            stress_rate.truncate(n);
-        }
     }
 
     /// Largest |dv/dt|, reduced in a fixed order.

@@ -6,7 +6,6 @@ use rayon::prelude::*;
 
 use super::system::MIN_LEN;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
-use geosph_sph::Viscosity;
 use geosph_sph::{StateArrays, StateError};
 
 /// DFSPH: two velocity-space solvers that share the per-particle factor α_i = ρ_i / d_i
@@ -81,8 +80,8 @@ impl Dfsph {
     /// One DFSPH solve: warm start with `summed`, then iterate; `summed` ends holding the sum
     /// of all increments.
     #[allow(clippy::too_many_arguments)]
-    fn solve<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
-        system: &PressureSystem<D, K, V>,
+    fn solve<const D: usize, K: Kernel<D>>(
+        system: &PressureSystem<D, K>,
         fluid: &mut Particles<D>,
         dt: Real,
         kind: Residual,
@@ -212,9 +211,9 @@ impl Dfsph {
 impl<const D: usize> PressureMethod<D> for Dfsph {
     const NAME: &'static str = "dfsph";
 
-    fn correct_density<K: Kernel<D>, V: Viscosity<D>>(
+    fn correct_density<K: Kernel<D>>(
         &mut self,
-        system: &PressureSystem<D, K, V>,
+        system: &PressureSystem<D, K>,
         fluid: &mut Particles<D>,
         dt: Real,
         settings: &PressureSolveSettings,
@@ -239,9 +238,9 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
         )
     }
 
-    fn after_update<K: Kernel<D>, V: Viscosity<D>>(
+    fn after_update<K: Kernel<D>>(
         &mut self,
-        system: &PressureSystem<D, K, V>,
+        system: &PressureSystem<D, K>,
         fluid: &mut Particles<D>,
         dt: Real,
         settings: &PressureSolveSettings,

@@ -7,7 +7,6 @@ use rayon::prelude::*;
 
 use super::system::MIN_LEN;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
-use geosph_sph::Viscosity;
 
 /// IISPH: the pressure Poisson equation from the continuity equation,
 ///
@@ -45,9 +44,9 @@ impl Default for Iisph {
 impl<const D: usize> PressureMethod<D> for Iisph {
     const NAME: &'static str = "iisph";
 
-    fn correct_density<K: Kernel<D>, V: Viscosity<D>>(
+    fn correct_density<K: Kernel<D>>(
         &mut self,
-        system: &PressureSystem<D, K, V>,
+        system: &PressureSystem<D, K>,
         fluid: &mut Particles<D>,
         dt: Real,
         settings: &PressureSolveSettings,
@@ -98,8 +97,8 @@ pub(crate) enum StopOn {
 /// Δt² Σ_j m_j (a^p_i − a^p_j)·∇_i W_ij (+ walls) that a^p causes. The error over ρ₀ is that
 /// of `stop`; iterations stop when it is at most the target after the minimum count and no
 /// particle that takes pressure is predicted beyond `max_compression`.
-pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>, V: Viscosity<D>>(
-    system: &PressureSystem<D, K, V>,
+pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>>(
+    system: &PressureSystem<D, K>,
     fluid: &mut Particles<D>,
     dt: Real,
     settings: &PressureSolveSettings,

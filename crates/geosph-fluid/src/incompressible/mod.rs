@@ -32,8 +32,8 @@ use geosph_sph::lattice::{
     lattice_gradient_factor, lattice_gradient_squares, lattice_jacobi_bound, lattice_kernel_sum,
 };
 use geosph_sph::{
-    Solver, SolverError, SolverState, StateArrays, StateError, StepReport, Viscosity, compression,
-    event_step, max_speed,
+    Solver, SolverError, SolverState, StateArrays, StateError, StepReport, compression, event_step,
+    max_speed,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -113,9 +113,9 @@ pub trait PressureMethod<const D: usize>: Send {
 
     /// Corrects the predicted velocities in `fluid.velocity` (and sets `fluid.pressure`) so the
     /// density predicted for the end of the step is ρ₀ within the target error.
-    fn correct_density<K: Kernel<D>, V: Viscosity<D>>(
+    fn correct_density<K: Kernel<D>>(
         &mut self,
-        system: &PressureSystem<D, K, V>,
+        system: &PressureSystem<D, K>,
         fluid: &mut Particles<D>,
         dt: Real,
         settings: &PressureSolveSettings,
@@ -123,9 +123,9 @@ pub trait PressureMethod<const D: usize>: Send {
     ) -> SolveReport;
 
     /// Called after positions, lists and densities were updated (DFSPH's divergence solve).
-    fn after_update<K: Kernel<D>, V: Viscosity<D>>(
+    fn after_update<K: Kernel<D>>(
         &mut self,
-        _system: &PressureSystem<D, K, V>,
+        _system: &PressureSystem<D, K>,
         _fluid: &mut Particles<D>,
         _dt: Real,
         _settings: &PressureSolveSettings,
@@ -151,9 +151,9 @@ pub trait PressureMethod<const D: usize>: Send {
 }
 
 /// An incompressible solver: the shared [`PressureSystem`] stepped with the pressure solve `M`.
-pub struct Incompressible<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> {
+pub struct Incompressible<const D: usize, K: Kernel<D>, M: PressureMethod<D>> {
     /// The discrete operators.
-    pub system: PressureSystem<D, K, V>,
+    pub system: PressureSystem<D, K>,
     /// The pressure solve.
     pub method: M,
     /// Iteration controls and time-step rule.
@@ -166,12 +166,10 @@ pub struct Incompressible<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: Pres
     steps: usize,
 }
 
-impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
-    Incompressible<D, K, V, M>
-{
+impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Incompressible<D, K, M> {
     /// A solver for `fluid`: sorts it, builds the lists and densities, creates its pressure.
     pub fn new(
-        mut system: PressureSystem<D, K, V>,
+        mut system: PressureSystem<D, K>,
         method: M,
         settings: PressureSolveSettings,
         spacing: Real,
@@ -230,11 +228,13 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>>
     }
 }
 
-impl<const D: usize, K: Kernel<D>, V: Viscosity<D>, M: PressureMethod<D>> Solver<D>
-    for Incompressible<D, K, V, M>
-{
+impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompressible<D, K, M> {
     fn name(&self) -> &'static str {
         M::NAME
+    }
+
+    fn iterates(&self) -> bool {
+        true
     }
 
     fn step(

@@ -6,7 +6,6 @@ use rayon::prelude::*;
 
 use super::iisph::{StopOn, relaxed_jacobi};
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
-use geosph_sph::Viscosity;
 use geosph_sph::lattice::lattice_gradient_squares;
 
 /// PCISPH: starting from p = 0, predict the density, correct every pressure by
@@ -47,9 +46,9 @@ impl Pcisph {
 impl<const D: usize> PressureMethod<D> for Pcisph {
     const NAME: &'static str = "pcisph";
 
-    fn correct_density<K: Kernel<D>, V: Viscosity<D>>(
+    fn correct_density<K: Kernel<D>>(
         &mut self,
-        system: &PressureSystem<D, K, V>,
+        system: &PressureSystem<D, K>,
         fluid: &mut Particles<D>,
         dt: Real,
         settings: &PressureSolveSettings,

@@ -7,7 +7,7 @@ use geosph_core::{Domain, NeighbourList, Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::pair_arrays::{ParticleView, for_each_particle};
-use geosph_sph::{Pair, PairLists, Viscosity};
+use geosph_sph::{Pair, PairLists, Viscosity, ViscousTerm, ViscousVisitor};
 use rayon::prelude::*;
 
 /// How walls take part in the pressure force.
@@ -52,15 +52,16 @@ pub const DIAGONAL_FLOOR: Real = 1e-3;
 /// incompressible solvers iterate many times over them per step, so a list without empty pairs
 /// pays off, and ∇_i W_ij is stored per pair so that each iteration reads it instead of
 /// recomputing it.
-pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
+pub struct PressureSystem<const D: usize, K: Kernel<D>> {
     /// Smoothing kernel.
     pub kernel: K,
     /// Fluid–fluid and fluid–wall pairs (exact), with the Z-order schedule.
     pub lists: PairLists<D>,
     /// Rest density ρ₀.
     pub rest_density: Real,
-    /// Viscous term.
-    pub viscosity: V,
+    /// Viscous term, resolved to its type once per pass (it enters the known acceleration
+    /// only, once per step).
+    pub viscosity: ViscousTerm,
     /// Body-force acceleration g.
     pub gravity: Vector<D>,
     /// Wall particles (their density and pressure fields are set for output).
@@ -88,13 +89,13 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>, V: Viscosity<D>> {
     diagonal: Vec<Real>,
 }
 
-impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
+impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
     /// A system on `domain` with the given `walls` (their grid is built once here).
     pub fn new(
         kernel: K,
         domain: Domain<D>,
         rest_density: Real,
-        viscosity: V,
+        viscosity: ViscousTerm,
         gravity: Vector<D>,
         walls: WallParticles<D>,
         wall_pressure: WallPressure,
@@ -225,29 +226,34 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
     /// h_b = max((g − a_b)·(x_b − x_i), −p_i/ρ_i) with p_i the pressure in `fluid` (the last
     /// step's).
     pub fn non_pressure_acceleration(&self, fluid: &Particles<D>, acceleration: &mut [Vector<D>]) {
-        acceleration
-            .par_iter_mut()
-            .enumerate()
-            .for_each(|(i, a_i)| *a_i = self.non_pressure_acceleration_at(i, fluid));
+        self.viscosity.visit(KnownAcceleration {
+            system: self,
+            fluid,
+            dt: None,
+            out: acceleration,
+        });
     }
 
     /// The predicted velocity v*_i = v_i + Δt a*_i of every particle into `predicted`, with
     /// a* the [known acceleration](Self::non_pressure_acceleration).
     pub fn predict_velocity(&self, fluid: &Particles<D>, dt: Real, predicted: &mut [Vector<D>]) {
-        predicted.par_iter_mut().enumerate().for_each(|(i, v)| {
-            *v = fluid.velocity[i] + self.non_pressure_acceleration_at(i, fluid) * dt
+        self.viscosity.visit(KnownAcceleration {
+            system: self,
+            fluid,
+            dt: Some(dt),
+            out: predicted,
         });
     }
 
-    /// [`Self::non_pressure_acceleration`] of particle `i`.
+    /// [`Self::non_pressure_acceleration`] of particle `i` with the viscous term `viscosity`.
     #[inline]
-    fn non_pressure_acceleration_at(&self, i: usize, fluid: &Particles<D>) -> Vector<D> {
-        let (kernel, domain, viscosity, gravity) = (
-            self.kernel,
-            self.lists.domain(),
-            self.viscosity,
-            self.gravity,
-        );
+    fn non_pressure_acceleration_at<V: Viscosity<D>>(
+        &self,
+        viscosity: V,
+        i: usize,
+        fluid: &Particles<D>,
+    ) -> Vector<D> {
+        let (kernel, domain, gravity) = (self.kernel, self.lists.domain(), self.gravity);
         let walls = &self.walls;
         let rho0 = self.rest_density;
         let eta2 = 0.01 * kernel.smoothing_length().powi(2);
@@ -399,6 +405,39 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> PressureSystem<D, K, V> {
             sum += self.rest_density * self.walls.volume[b] * (u_i - wall[b]).dot(gradient);
         }
         sum
+    }
+}
+
+/// One pass of the known acceleration a*, monomorphised over the viscous term: into `out` as
+/// a*, or, with `dt`, as the predicted velocity v + Δt a*.
+struct KnownAcceleration<'a, const D: usize, K: Kernel<D>> {
+    system: &'a PressureSystem<D, K>,
+    fluid: &'a Particles<D>,
+    dt: Option<Real>,
+    out: &'a mut [Vector<D>],
+}
+
+impl<const D: usize, K: Kernel<D>> ViscousVisitor<D> for KnownAcceleration<'_, D, K> {
+    type Output = ();
+
+    fn visit<V: Viscosity<D>>(self, viscosity: V) -> Self::Output {
+        let Self {
+            system,
+            fluid,
+            dt,
+            out,
+        } = self;
+        let known = |i| system.non_pressure_acceleration_at(viscosity, i, fluid);
+        match dt {
+            Some(dt) => out
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, v)| *v = fluid.velocity[i] + known(i) * dt),
+            None => out
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, a_i)| *a_i = known(i)),
+        }
     }
 }
 

@@ -1,22 +1,19 @@
 //! Scene-level configuration of the soil solver, its validation, and the factory that builds a
-//! solver from it with every switchable term resolved to a type.
+//! solver from it (monomorphised over the kernel).
 
 use geosph_core::{Particles, Real};
 use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_neighbours::SearchError;
-use geosph_sph::{Solver, SphSetup};
+use geosph_sph::{ArtificialMonaghan1992, Solver, SphSetup};
 use serde::{Deserialize, Serialize};
 
 use crate::constitutive::{Constitutive, ConstitutiveConfig};
 use crate::drucker_prager::ReturnAlgorithm;
 use crate::material::{MaterialError, SoilMaterial};
-use crate::sph::geostatic::{GeostaticConfig, GeostaticReport, run_geostatic_stage};
+use crate::sph::geostatic::GeostaticConfig;
 use crate::sph::solver::SoilSolver;
 use crate::sph::system::SoilSystem;
-use crate::sph::terms::{
-    ArtificialStressGray2001, ArtificialViscosityMonaghan, NoArtificialStress, NoViscosity,
-    PairViscosity, TensileCorrection,
-};
+use crate::sph::terms::ArtificialStressGray2001;
 
 /// Monaghan (1992) artificial viscosity between soil particles.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -269,22 +266,14 @@ pub enum SoilError {
     Step(#[from] geosph_sph::SolverError),
 }
 
-/// A built soil solver and the report of its geostatic stage, if the scene had one.
-pub struct SoilBuild<const D: usize> {
-    /// The solver, stepped by the runner like any other.
-    pub solver: Box<dyn Solver<D>>,
-    /// What the geostatic stage reached.
-    pub geostatic: Option<GeostaticReport>,
-}
-
 /// Builds the soil solver that `config` describes for `particles` (whose soil fields it
-/// creates), monomorphised over the kernel, the artificial viscosity and the artificial
-/// stress, and runs the geostatic stage if the configuration has one.
+/// creates), monomorphised over the kernel. A geostatic stage in `config` is run by the
+/// solver's [`Solver::initial_stage`], which the runner calls before t = 0 of a new run.
 pub fn build_soil<const D: usize>(
     config: &SoilConfig,
     setup: SphSetup<D>,
     particles: &mut Particles<D>,
-) -> Result<SoilBuild<D>, SoilError> {
+) -> Result<Box<dyn Solver<D>>, SoilError> {
     config.validate()?;
     let (kernel, h) = (setup.kernel, setup.smoothing_length);
     kernel.dispatch::<D, _>(
@@ -304,56 +293,24 @@ struct SoilBuilder<'a, const D: usize> {
 }
 
 impl<const D: usize> KernelVisitor<D> for SoilBuilder<'_, D> {
-    type Output = Result<SoilBuild<D>, SoilError>;
+    type Output = Result<Box<dyn Solver<D>>, SoilError>;
 
     fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let model = self
-            .config
-            .constitutive
-            .build()
-            .map_err(ConfigError::from)?;
-        let wave_speed = (model.elastic().p_wave_modulus() / self.setup.rest_density).sqrt();
-        match self.config.artificial_viscosity {
-            None => self.with_viscosity(kernel, NoViscosity),
-            Some(av) => self.with_viscosity(
-                kernel,
-                ArtificialViscosityMonaghan {
-                    alpha: av.alpha,
-                    beta: av.beta,
-                    smoothing_length: kernel.smoothing_length(),
-                    wave_speed,
-                },
-            ),
-        }
-    }
-}
-
-impl<const D: usize> SoilBuilder<'_, D> {
-    fn with_viscosity<K: Kernel<D>, V: PairViscosity<D>>(
-        self,
-        kernel: K,
-        viscosity: V,
-    ) -> Result<SoilBuild<D>, SoilError> {
-        let spacing = particle_spacing::<D>(self.particles, self.setup.rest_density);
-        match self.config.artificial_stress {
-            None => self.finish(kernel, viscosity, NoArtificialStress),
-            Some(stress) => self.finish(
-                kernel,
-                viscosity,
-                ArtificialStressGray2001::new(&kernel, stress.epsilon, stress.exponent, spacing),
-            ),
-        }
-    }
-
-    fn finish<K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>(
-        self,
-        kernel: K,
-        viscosity: V,
-        artificial_stress: S,
-    ) -> Result<SoilBuild<D>, SoilError> {
         let config = self.config;
-        let spacing = particle_spacing::<D>(self.particles, self.setup.rest_density);
         let model = config.constitutive.build().map_err(ConfigError::from)?;
+        let wave_speed = (model.elastic().p_wave_modulus() / self.setup.rest_density).sqrt();
+        let viscosity = config
+            .artificial_viscosity
+            .map(|av| ArtificialMonaghan1992 {
+                alpha: av.alpha,
+                beta: av.beta,
+                smoothing_length: kernel.smoothing_length(),
+                sound_speed: wave_speed,
+            });
+        let spacing = particle_spacing::<D>(self.particles, self.setup.rest_density);
+        let artificial_stress = config.artificial_stress.map(|stress| {
+            ArtificialStressGray2001::new(&kernel, stress.epsilon, stress.exponent, spacing)
+        });
         self.particles.enable_soil();
         let mut system = SoilSystem::new(
             kernel,
@@ -369,15 +326,9 @@ impl<const D: usize> SoilBuilder<'_, D> {
         system.lists.reorder_every = config.reorder_every;
         let mut solver = SoilSolver::new(system, config.cfl);
         solver.regularisation = config.regularisation;
-        let geostatic = match &config.geostatic {
-            Some(stage) => Some(run_geostatic_stage(&mut solver, self.particles, stage)?),
-            None => None,
-        };
+        solver.geostatic = config.geostatic.clone();
         solver.system.set_damping(config.damping.unwrap_or(0.0));
-        Ok(SoilBuild {
-            solver: Box::new(solver),
-            geostatic,
-        })
+        Ok(Box::new(solver))
     }
 }
 

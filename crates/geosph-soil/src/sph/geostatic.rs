@@ -5,12 +5,13 @@ use std::collections::HashMap;
 
 use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
-use geosph_sph::Solver;
+use geosph_neighbours::SearchError;
+use geosph_sph::{Solver, StageReport};
 use serde::{Deserialize, Serialize};
 
 use crate::sph::config::{ConfigError, SoilError, WallSlip};
 use crate::sph::solver::SoilSolver;
-use crate::sph::terms::{PairViscosity, TensileCorrection};
+use crate::sph::system::SoilSystem;
 
 /// A box (lower and upper corner, `dimension` numbers each) of wall particles to remove at
 /// release, e.g. a retaining wall.
@@ -169,15 +170,10 @@ fn kinetic_energy<const D: usize>(soil: &Particles<D>) -> Real {
 }
 
 /// Runs the stage on `soil` with `solver`, then releases: removes the wall particles inside
-/// `config.release`, zeroes velocity, displacement, strain and plastic strain. The solver's
-/// own damping is left off; the caller sets the run's damping afterwards.
-pub fn run_geostatic_stage<
-    const D: usize,
-    K: Kernel<D>,
-    V: PairViscosity<D>,
-    S: TensileCorrection<D>,
->(
-    solver: &mut SoilSolver<D, K, V, S>,
+/// `config.release` ([`release_walls`]), zeroes velocity, displacement, strain and plastic
+/// strain, and gives the solver back the run's damping and wall slip.
+pub fn run_geostatic_stage<const D: usize, K: Kernel<D>>(
+    solver: &mut SoilSolver<D, K>,
     soil: &mut Particles<D>,
     config: &GeostaticConfig,
 ) -> Result<GeostaticReport, SoilError> {
@@ -202,6 +198,7 @@ pub fn run_geostatic_stage<
     let c = solver.system.wave_speed;
     let omega = std::f64::consts::PI * c / (2.0 * soil_height);
     let damping = 2.0 * config.damping_ratio * omega;
+    let run_damping = solver.system.damping_rate();
     solver.system.set_damping_rate(damping);
     let run_slip = solver.system.wall_config.slip;
     if config.free_slip_walls {
@@ -249,13 +246,8 @@ pub fn run_geostatic_stage<
     report.kinetic_energy_ratio = ratio;
     report.residual_rms = residual_rms;
     report.residual_max = residual_max;
-    report.released_walls = solver.system.remove_walls(|x| {
-        config
-            .release
-            .iter()
-            .any(|b| (0..D).all(|k| x[k] >= b.min[k] && x[k] <= b.max[k]))
-    })?;
-    solver.system.set_damping_rate(0.0);
+    report.released_walls = release_walls(&mut solver.system, config)?;
+    solver.system.set_damping_rate(run_damping);
     solver.system.wall_config.slip = run_slip;
     let fields = soil
         .soil
@@ -266,6 +258,54 @@ pub fn run_geostatic_stage<
     fields.strain.fill(geosph_core::Tensor3::zeros());
     fields.plastic_strain.fill(0.0);
     Ok(report)
+}
+
+/// Removes the wall particles inside `config.release` from `system` (the release at the end of
+/// the stage, applied again on a restart, whose solver is built with the walls of the scene)
+/// and returns how many.
+pub fn release_walls<const D: usize, K: Kernel<D>>(
+    system: &mut SoilSystem<D, K>,
+    config: &GeostaticConfig,
+) -> Result<usize, SearchError> {
+    system.remove_walls(|x| {
+        config
+            .release
+            .iter()
+            .any(|b| (0..D).all(|k| x[k] >= b.min[k] && x[k] <= b.max[k]))
+    })
+}
+
+impl GeostaticReport {
+    /// The report in the runner's material-neutral form, every field a named figure.
+    pub fn stage_report(&self) -> StageReport {
+        let figures = [
+            ("time", self.time),
+            ("converged", Real::from(u8::from(self.converged))),
+            ("kinetic_energy_ratio", self.kinetic_energy_ratio),
+            ("residual_rms", self.residual_rms),
+            ("residual_max", self.residual_max),
+            ("checked_particles", self.checked_particles as Real),
+            ("vertical_stress_error_max", self.vertical_stress_error_max),
+            (
+                "vertical_stress_error_mean",
+                self.vertical_stress_error_mean,
+            ),
+            ("lateral_ratio_min", self.lateral_ratio.0),
+            ("lateral_ratio_mean", self.lateral_ratio.1),
+            ("lateral_ratio_max", self.lateral_ratio.2),
+            ("plastic_fraction", self.plastic_fraction),
+            ("released_walls", self.released_walls as Real),
+        ];
+        StageReport {
+            name: "geostatic".into(),
+            steps: self.steps,
+            text: self.to_string(),
+            figures: figures
+                .into_iter()
+                .map(|(name, value)| (name.to_string(), value))
+                .collect(),
+        }
+    }
 }
 
 /// σ_v and σ_h/σ_v of the particles deeper than two layers below the top of their column

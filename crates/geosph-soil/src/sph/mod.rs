@@ -21,7 +21,7 @@ pub mod walls;
 
 pub use config::{
     ArtificialStressConfig, ArtificialViscosityConfig, ConfigError, RegularisationConfig,
-    SoilBuild, SoilConfig, SoilError, SoilWallConfig, WallSlip, WallStress, build_soil,
+    SoilConfig, SoilError, SoilWallConfig, WallSlip, WallStress, build_soil,
 };
 pub use geostatic::{GeostaticConfig, GeostaticReport, ReleaseBox};
 pub use solver::SoilSolver;

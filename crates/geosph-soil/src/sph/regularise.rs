@@ -15,7 +15,6 @@ use geosph_kernels::{Kernel, MlsCoefficients};
 use rayon::prelude::*;
 
 use crate::sph::system::SoilSystem;
-use crate::sph::terms::{PairViscosity, TensileCorrection};
 
 /// Work arrays of the regularisation, kept between calls so no step allocates.
 #[derive(Clone, Debug, Default)]
@@ -28,13 +27,8 @@ pub struct RegularisationScratch<const D: usize> {
 
 /// Replaces σ_i by ⟨σ_i⟩ (MLS kernel if `mls`, else Shepard) over the soil neighbour list of
 /// the last step.
-pub fn regularise_stress<
-    const D: usize,
-    K: Kernel<D>,
-    V: PairViscosity<D>,
-    S: TensileCorrection<D>,
->(
-    system: &SoilSystem<D, K, V, S>,
+pub fn regularise_stress<const D: usize, K: Kernel<D>>(
+    system: &SoilSystem<D, K>,
     soil: &mut Particles<D>,
     mls: bool,
     scratch: &mut RegularisationScratch<D>,

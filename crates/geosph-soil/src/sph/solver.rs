@@ -4,14 +4,14 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_sph::{
-    Solver, SolverError, SolverState, StepReport, compression, event_step, max_speed,
+    Solver, SolverError, SolverState, StageReport, StepReport, compression, event_step, max_speed,
 };
 use geosph_time::{StepLimits, time_step};
 
 use crate::sph::config::RegularisationConfig;
+use crate::sph::geostatic::{GeostaticConfig, release_walls, run_geostatic_stage};
 use crate::sph::regularise::{RegularisationScratch, regularise_stress};
 use crate::sph::system::SoilSystem;
-use crate::sph::terms::{PairViscosity, TensileCorrection};
 
 /// Elastoplastic soil SPH: [`SoilSystem`] with the step
 ///
@@ -20,26 +20,27 @@ use crate::sph::terms::{PairViscosity, TensileCorrection};
 /// the CFL condition on the fastest elastic wave. In plane strain and 3D the P wave is the
 /// fastest, with modulus M = K + 4G/3 = E(1 − ν)/((1 + ν)(1 − 2ν)) (Bui et al. 2008 bound the
 /// step with √(E/ρ), which is slower by √((1 − ν)/((1 + ν)(1 − 2ν))) = 1/1.16 at ν = 0.3).
-pub struct SoilSolver<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>> {
+pub struct SoilSolver<const D: usize, K: Kernel<D>> {
     /// The physics.
-    pub system: SoilSystem<D, K, V, S>,
+    pub system: SoilSystem<D, K>,
     /// Courant number C.
     pub cfl: Real,
     /// Stress regularisation, if any.
     pub regularisation: Option<RegularisationConfig>,
+    /// The geostatic stage still to run before t = 0 ([`Solver::initial_stage`]), if any.
+    pub geostatic: Option<GeostaticConfig>,
     scratch: RegularisationScratch<D>,
     steps: usize,
 }
 
-impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
-    SoilSolver<D, K, V, S>
-{
+impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
     /// A solver around `system`.
-    pub fn new(system: SoilSystem<D, K, V, S>, cfl: Real) -> Self {
+    pub fn new(system: SoilSystem<D, K>, cfl: Real) -> Self {
         Self {
             system,
             cfl,
             regularisation: None,
+            geostatic: None,
             scratch: RegularisationScratch::default(),
             steps: 0,
         }
@@ -70,11 +71,25 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
     }
 }
 
-impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>> Solver<D>
-    for SoilSolver<D, K, V, S>
-{
+impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
     fn name(&self) -> &'static str {
         "soil-sph"
+    }
+
+    fn material(&self) -> &'static str {
+        "soil"
+    }
+
+    fn initial_stage(
+        &mut self,
+        soil: &mut Particles<D>,
+    ) -> Result<Option<StageReport>, SolverError> {
+        let Some(stage) = self.geostatic.take() else {
+            return Ok(None);
+        };
+        let report = run_geostatic_stage(self, soil, &stage)
+            .map_err(|error| SolverError::Stage(error.to_string()))?;
+        Ok(Some(report.stage_report()))
     }
 
     fn step(
@@ -155,6 +170,11 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         soil: &mut Particles<D>,
     ) -> Result<(), SolverError> {
         let steps = state.steps_of(self.name())?;
+        // The checkpoint was written after the geostatic stage: its particles are restored,
+        // and its release is applied to the walls of the scene.
+        if let Some(stage) = self.geostatic.take() {
+            release_walls(&mut self.system, &stage)?;
+        }
         let arrays = &mut state.arrays;
         let acceleration = arrays.take("acceleration")?;
         let acceleration = acceleration

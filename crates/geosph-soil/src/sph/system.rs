@@ -5,22 +5,22 @@ use geosph_core::{Matrix, Particles, Real, Tensor3, Vector};
 use geosph_kernels::Kernel;
 use geosph_kernels::cspm::{MAX_CONDITION_NUMBER, well_conditioned_inverse};
 use geosph_neighbours::SearchError;
-use geosph_sph::{PairLists, SphSetup};
+use geosph_sph::{ArtificialMonaghan1992, PairLists, SphSetup};
 use rayon::prelude::*;
 
 use crate::constitutive::{Constitutive, SoilModel};
 use crate::invariants::mean_pressure;
 use crate::kinematics::{spin, strain_rate};
 use crate::sph::config::{SoilWallConfig, WallSlip, WallStress};
-use crate::sph::terms::{PairViscosity, TensileCorrection, block};
+use crate::sph::terms::{ArtificialStressGray2001, block};
 use crate::sph::walls::{dummy_velocity, gravity_extrapolation};
 
 /// Smallest number of particles a parallel task handles.
 const MIN_CHUNK: usize = 256;
 
 /// One explicit step of elastoplastic soil SPH (Bui et al. 2008, Int. J. Numer. Anal. Meth.
-/// Geomech. 32:1537), monomorphised over the kernel `K`, the artificial viscosity `V` and the
-/// artificial stress `S`. With r_ij = x_i − x_j, ∇_i W_ij = r_ij W'(r)/r, V_j = m_j/ρ_j:
+/// Geomech. 32:1537), monomorphised over the kernel `K`; the artificial viscosity and the
+/// artificial stress are options tested once per pair (a predictable branch). With r_ij = x_i − x_j, ∇_i W_ij = r_ij W'(r)/r, V_j = m_j/ρ_j:
 ///
 /// - velocity gradient (antisymmetric form): L_i = Σ_j V_j (v_j − v_i) ⊗ ∇_i W_ij, then
 ///   ε̇ = ½(L + Lᵀ), ω = ½(L − Lᵀ), embedded in 3×3 (plane strain in 2D); optionally
@@ -39,7 +39,7 @@ const MIN_CHUNK: usize = 256;
 /// ρ and σ to n+1, the momentum equation with σ^{n+1} gives v^{n+1} = v^n + Δt a, and
 /// x^{n+1} = x^n + Δt v^{n+1} (symplectic Euler). Each particle sums its own neighbours
 /// (gather), so the result does not depend on the number of threads.
-pub struct SoilSystem<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>> {
+pub struct SoilSystem<const D: usize, K: Kernel<D>> {
     /// Smoothing kernel.
     pub kernel: K,
     /// Soil–soil, soil–wall and wall–soil pairs, with their Verlet skin and Z-order schedule.
@@ -58,8 +58,8 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: Tens
     pub spacing: Real,
     /// Elastic P-wave speed c = √((K + 4G/3)/ρ₀).
     pub wave_speed: Real,
-    viscosity: V,
-    artificial_stress: S,
+    viscosity: Option<ArtificialMonaghan1992>,
+    artificial_stress: Option<ArtificialStressGray2001>,
     repulsive: Option<RepulsiveLiu2012>,
     /// μ_d of the velocity damping (0: off).
     damping_rate: Real,
@@ -74,9 +74,7 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: Tens
     acceleration: Vec<Vector<D>>,
 }
 
-impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
-    SoilSystem<D, K, V, S>
-{
+impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
     /// A system for the soil of `setup` (its `walls`, `domain`, `gravity`, `rest_density`),
     /// whose pair lists have a Verlet skin of `skin_fraction` × the support radius
     /// ([`PairLists`]).
@@ -84,8 +82,8 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         kernel: K,
         setup: SphSetup<D>,
         model: SoilModel,
-        viscosity: V,
-        artificial_stress: S,
+        viscosity: Option<ArtificialMonaghan1992>,
+        artificial_stress: Option<ArtificialStressGray2001>,
         wall_config: SoilWallConfig,
         spacing: Real,
         skin_fraction: Real,
@@ -200,7 +198,8 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
 
     /// Restores what the next step depends on besides the particles (a restart): the
     /// accelerations of the last step (they bound Δt) and, when given, the neighbour lists
-    /// built at `listed`, positions saved from [`SoilSystem::listed_positions`].
+    /// built at `listed`, positions saved from
+    /// [`PairLists::listed_positions`](geosph_sph::PairLists::listed_positions).
     pub fn restore(
         &mut self,
         acceleration: Vec<Vector<D>>,
@@ -370,7 +369,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                 *plastic += update.equivalent_plastic_strain_increment;
                 let stress_block = block::<D>(sigma);
                 *term = stress_block / (*rho * *rho);
-                if S::ON {
+                if let Some(artificial_stress) = &artificial_stress {
                     *tensile = artificial_stress.particle_term(sigma, *rho);
                 }
             });
@@ -449,6 +448,8 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
         let (kernel, lists, gravity, walls) = (*kernel, &*lists, *gravity, &*walls);
         let (viscosity, artificial_stress, repulsive) =
             (*viscosity, *artificial_stress, *repulsive);
+        let h = kernel.smoothing_length();
+        let eta2 = 0.01 * h * h;
         let (rest_density, damping_rate) = (*rest_density, *damping_rate);
         let friction = match wall_config.slip {
             WallSlip::Friction { angle_deg } => Some(angle_deg.to_radians().tan()),
@@ -472,18 +473,17 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                 lists.for_each_neighbour(&kernel, position, i, |pair| {
                     let j = pair.index;
                     let mut term = term_i + stress_term[j];
-                    if V::ON {
-                        let pi = viscosity.pi(
-                            &pair.r_ij,
-                            &(v_i - velocity[j]),
-                            pair.r2,
-                            0.5 * (rho_i + density[j]),
-                        );
-                        for k in 0..D {
-                            term[(k, k)] -= pi;
+                    if let Some(viscosity) = &viscosity {
+                        let approach = (v_i - velocity[j]).dot(&pair.r_ij);
+                        if approach < 0.0 {
+                            let mu = h * approach / (pair.r2 + eta2);
+                            let pi = viscosity.pi(mu, 0.5 * (rho_i + density[j]));
+                            for k in 0..D {
+                                term[(k, k)] -= pi;
+                            }
                         }
                     }
-                    if S::ON {
+                    if let Some(artificial_stress) = &artificial_stress {
                         let f = artificial_stress.pair_factor(kernel.value(pair.r));
                         term += (tensile_i + tensile_term[j]) * f;
                     }
@@ -494,7 +494,7 @@ impl<const D: usize, K: Kernel<D>, V: PairViscosity<D>, S: TensileCorrection<D>>
                 lists.for_each_wall(&kernel, position, &walls.position, i, |pair| {
                     let w = pair.index;
                     let mut term = term_i + wall_term[w];
-                    if S::ON {
+                    if let Some(artificial_stress) = &artificial_stress {
                         term += tensile_i * artificial_stress.pair_factor(kernel.value(pair.r));
                     }
                     a_wall += term * pair.grad * (rest_density * walls.volume[w]);
