@@ -245,7 +245,7 @@ fn hydrostatic_tank(solver: &str) {
     );
 }
 
-/// The 2 % profile, with the pressure converged further: IISPH at a 0.01 % target.
+/// The required 2 % profile, with the pressure converged further: IISPH at a 0.01 % target.
 ///
 /// The layer pressures (layers dx thick) alternate about ρ₀ g (H − y) by up to ±3 % of the
 /// bed pressure ρ₀ g H, a mode at the particle scale whose pattern changes with rounding
@@ -277,19 +277,19 @@ fn hydrostatic_tank_converged_iisph_is_within_2_percent() {
     assert!(tank.summary.mean_density_error < 1.05e-4);
 }
 
-/// The 2 % at the probes and over pairs of layers (1.30 % and 1.57 % measured).
+/// The required 2 % at the probes and over pairs of layers (1.30 % and 1.57 % measured).
 #[test]
 fn hydrostatic_tank_holds_rho_g_depth_for_20_s_pcisph() {
     hydrostatic_tank("Pcisph(())");
 }
 
-/// The 2 % at the probes and over pairs of layers (1.78 % and 0.62 % measured).
+/// The required 2 % at the probes and over pairs of layers (1.78 % and 0.62 % measured).
 #[test]
 fn hydrostatic_tank_holds_rho_g_depth_for_20_s_iisph() {
     hydrostatic_tank("Iisph(())");
 }
 
-/// The 2 % at the probes and over pairs of layers (0.63 % and 0.79 % measured).
+/// The required 2 % at the probes and over pairs of layers (0.63 % and 0.79 % measured).
 #[test]
 fn hydrostatic_tank_holds_rho_g_depth_for_20_s_dfsph() {
     hydrostatic_tank("Dfsph(())");

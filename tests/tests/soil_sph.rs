@@ -102,7 +102,7 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
         "{report}"
     );
 
-    // The convergence criterion: the runout (the deposit toe, 0.1 H thick) at dx/2
+    // The required convergence: the runout (the deposit toe, 0.1 H thick) at dx/2
     // within 5 % of the one at dx, both at rest (t = 0.7 s).
     let fine = collapse(0.5 * dx, 0.7);
     eprintln!("{fine}");
