@@ -69,11 +69,12 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>> {
     /// Wall pressure model.
     pub wall_pressure: WallPressure,
     /// Constant c multiplying every pressure-gradient term (1: none). The solvers set it to
-    /// 1/f of [`lattice_gradient_factor`], so that the pressure force of a linear pressure
-    /// field on the initial lattice is exact.
+    /// 1/f of [`lattice_gradient_factor`](geosph_sph::lattice::lattice_gradient_factor), so
+    /// that the pressure force of a linear pressure field on the initial lattice is exact.
     pub gradient_correction: Real,
-    /// λ_max of [`lattice_jacobi_bound`] for the kernel and spacing (set by the solvers; 0:
-    /// unknown, no limit), which bounds the relaxation of the Jacobi solves
+    /// λ_max of [`lattice_jacobi_bound`](geosph_sph::lattice::lattice_jacobi_bound) for the
+    /// kernel and spacing (set by the solvers; 0: unknown, no limit), which bounds the
+    /// relaxation of the Jacobi solves
     /// ([`PressureSystem::relaxation_limit`]).
     pub jacobi_bound: Real,
     /// Σ_k |∇W(x_k)|² over a filled lattice of the spacing (set by the solvers; 0: no floor),
