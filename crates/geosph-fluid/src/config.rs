@@ -5,19 +5,22 @@ use geosph_boundary::{DummyAdami2012, Slip};
 use geosph_core::{Particles, Real};
 use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_neighbours::SearchError;
+use geosph_sph::config_error::{ConfigError, in_range, positive};
 use geosph_sph::lattice::{lattice_gradient_factor, lattice_kernel_sum};
-use geosph_sph::{ArtificialMonaghan1992, LaminarMorris1997, Solver, SphSetup, ViscousTerm};
+use geosph_sph::{
+    ArtificialMonaghan1992, LaminarMorris1997, ParticleStart, Solver, SphSetup, ViscousTerm,
+};
 use geosph_time::{Integrator, Scheme};
 use serde::{Deserialize, Serialize};
 
 use crate::diffusion::{DeltaAntuono2010, DeltaMolteni2009, DiffusionTerm};
-use crate::eos::{EosKind, EquationOfState};
 use crate::incompressible::{
     Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
     WallPressure,
 };
 use crate::wcsph::{DensityMode, WcsphSystem};
 use crate::wcsph_solver::Wcsph;
+use geosph_sph::eos::{EosKind, EquationOfState};
 
 /// The viscous term of a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -59,6 +62,20 @@ pub enum DiffusionConfig {
 }
 
 impl ViscosityConfig {
+    /// Checks the coefficients: α in [0, 1], β in [0, 2], ν > 0.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        match *self {
+            Self::None => Ok(()),
+            Self::Artificial { alpha, beta } => {
+                in_range("viscosity.alpha", alpha, 0.0, 1.0)?;
+                in_range("viscosity.beta", beta, 0.0, 2.0)
+            }
+            Self::Laminar {
+                kinematic_viscosity,
+            } => positive("viscosity.kinematic_viscosity", kinematic_viscosity),
+        }
+    }
+
     /// The term for smoothing length `h` and sound speed `sound_speed` (the artificial
     /// viscosity's c̄).
     pub fn term(&self, h: Real, sound_speed: Real) -> ViscousTerm {
@@ -170,6 +187,61 @@ impl Default for WcsphConfig {
     }
 }
 
+impl WcsphConfig {
+    /// Checks every value against its allowed range (fields relative to the solver block).
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if let EosKind::Tait { gamma } = self.equation_of_state {
+            in_range("equation_of_state.gamma", gamma, 1.0, 10.0)?;
+        }
+        if let Some(c0) = self.sound_speed {
+            positive("sound_speed", c0)?;
+        }
+        match self.diffusion {
+            DiffusionConfig::None => {}
+            DiffusionConfig::Molteni { delta } | DiffusionConfig::Antuono { delta } => {
+                in_range("diffusion.delta", delta, 0.0, 1.0)?
+            }
+        }
+        self.viscosity.validate()?;
+        in_range("xsph", self.xsph, 0.0, 1.0)?;
+        if !(self.background_pressure.is_finite() && self.background_pressure >= 0.0) {
+            return Err(ConfigError::new(
+                "background_pressure",
+                format!(
+                    "must be a finite number ≥ 0 Pa, got {}",
+                    self.background_pressure
+                ),
+            ));
+        }
+        in_range("neighbour_skin", self.neighbour_skin, 0.0, 1.0)?;
+        // Beyond C = 1 a sound wave crosses more than a smoothing length per step. Explicit
+        // schemes are usually run at C ≤ 0.4 (Monaghan 1992); the measured limits of each
+        // solver and kernel are in docs/stability.md, and a run that goes unstable is stopped
+        // with a diagnosis.
+        if !(self.cfl.is_finite() && self.cfl > 0.0 && self.cfl <= 1.0) {
+            return Err(ConfigError::new(
+                "cfl",
+                format!(
+                    "must lie in (0, 1] for the explicit {:?} integrator, got {}",
+                    self.integrator, self.cfl
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The particles start with this configuration's equation of state and sound speed (the
+    /// scene's rule when none is given), hydrostatic when the scene asks.
+    pub fn particle_start(&self) -> ParticleStart {
+        ParticleStart {
+            equation_of_state: self.equation_of_state,
+            background_pressure: self.background_pressure,
+            sound_speed: self.sound_speed,
+            hydrostatic: true,
+        }
+    }
+}
+
 /// Parameters of the incompressible solvers (PCISPH, IISPH, DFSPH).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -222,6 +294,54 @@ impl Default for IncompressibleConfig {
             divergence_solve: true,
             target_divergence_error: 1e-3,
             reorder_every: 100,
+        }
+    }
+}
+
+impl IncompressibleConfig {
+    /// Checks every value against its allowed range (fields relative to the solver block).
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        in_range("target_density_error", self.target_density_error, 1e-6, 0.1)?;
+        in_range(
+            "max_compression",
+            self.max_compression,
+            self.target_density_error,
+            1.0,
+        )?;
+        in_range(
+            "target_divergence_error",
+            self.target_divergence_error,
+            1e-6,
+            0.1,
+        )?;
+        if self.max_iterations == 0 || self.max_iterations < self.min_iterations {
+            return Err(ConfigError::new(
+                "max_iterations",
+                format!(
+                    "must be at least 1 and at least min_iterations = {}, got {}",
+                    self.min_iterations, self.max_iterations
+                ),
+            ));
+        }
+        // A particle must not cross more than one spacing per step, or pairs enter the support
+        // unseen by the pressure solve.
+        in_range("cfl", self.cfl, 1e-3, 1.0)?;
+        if let Some(dt) = self.max_time_step {
+            positive("max_time_step", dt)?;
+        }
+        in_range("relaxation", self.relaxation, 0.05, 1.0)?;
+        self.viscosity.validate()
+    }
+
+    /// The particles start at ρ₀, or hydrostatic with Tait's inverse (γ = 7) when the scene
+    /// asks: these solvers recompute the density by summation and use c₀ only as the velocity
+    /// scale of their artificial viscosity, which the scene's rule sets.
+    pub fn particle_start(&self) -> ParticleStart {
+        ParticleStart {
+            equation_of_state: EosKind::Tait { gamma: 7.0 },
+            background_pressure: 0.0,
+            sound_speed: None,
+            hydrostatic: true,
         }
     }
 }

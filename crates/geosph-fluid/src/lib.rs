@@ -2,7 +2,6 @@
 //! lists, viscous terms).
 //!
 //! Modules:
-//! - [`eos`]: equations of state (Tait, linear) and their inverses.
 //! - [`diffusion`]: δ-SPH density diffusion (Molteni & Colagrossi 2009, Antuono et al. 2010).
 //! - [`wcsph`]: the weakly compressible SPH system ([`WcsphSystem`]): symmetric momentum,
 //!   continuity or summation density, XSPH, Shepard re-initialisation, Adami walls.
@@ -52,7 +51,6 @@
 
 pub mod config;
 pub mod diffusion;
-pub mod eos;
 pub mod incompressible;
 pub mod wcsph;
 pub mod wcsph_solver;
@@ -60,6 +58,8 @@ pub mod wcsph_solver;
 pub use config::{
     IncompressibleConfig, IncompressibleMethod, WcsphConfig, build_incompressible, build_wcsph,
 };
-pub use eos::{EosKind, EquationOfState};
+/// The equations of state, from the shared layer (`geosph_sph::eos`).
+pub use geosph_sph::eos;
+pub use geosph_sph::eos::{EosKind, EquationOfState};
 pub use wcsph::WcsphSystem;
 pub use wcsph_solver::Wcsph;

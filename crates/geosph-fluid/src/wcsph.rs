@@ -10,7 +10,7 @@ use geosph_time::{ExplicitSystem, Rates};
 use rayon::prelude::*;
 
 use crate::diffusion::{DensityDiffusion, DiffusionTerm, DiffusionVisitor};
-use crate::eos::EquationOfState;
+use geosph_sph::eos::EquationOfState;
 
 /// How the density evolves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

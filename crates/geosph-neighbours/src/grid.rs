@@ -6,7 +6,7 @@ use geosph_core::{Domain, Real, Vector};
 use rayon::prelude::*;
 
 use crate::error::SearchError;
-use crate::query::QueryScratch;
+use crate::scratch::QueryScratch;
 
 /// Relative amount by which a cell edge exceeds the search radius.
 ///

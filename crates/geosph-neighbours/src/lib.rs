@@ -33,6 +33,7 @@ pub mod error;
 pub mod grid;
 pub mod morton;
 pub mod query;
+mod scratch;
 
 pub use error::SearchError;
 pub use grid::CellGrid;

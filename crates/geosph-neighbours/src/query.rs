@@ -1,11 +1,10 @@
 //! Fixed-radius queries on a built [`CellGrid`]: CSR neighbour lists and closure access.
 
-use std::sync::Mutex;
-
 use geosph_core::{NeighbourList, Real, Vector};
 use rayon::prelude::*;
 
 use crate::grid::CellGrid;
+use crate::scratch::ChunkBuffer;
 
 /// Queries per rayon task in [`CellGrid::neighbour_list`].
 const QUERY_CHUNK: usize = 1024;
@@ -16,49 +15,6 @@ const CHUNKS_PER_THREAD: usize = 4;
 
 /// Most rows (cell runs along axes 1..D) a query scans: 3^(D−1) for D ≤ 3.
 const MAX_ROWS: usize = 9;
-
-/// Scratch buffers for [`CellGrid::neighbour_list`], one per chunk of a wave of queries, kept
-/// between calls so that steady-state queries do not allocate. Taken out of the mutex for the
-/// duration of a call (a concurrent call on the same grid simply allocates its own).
-#[derive(Debug, Default)]
-pub(crate) struct QueryScratch(Mutex<Vec<ChunkBuffer>>);
-
-/// One chunk's neighbour indices: the first `len` entries of `slots`. The slots are only
-/// ever grown, never cleared, so that appending a run of candidates needs no zeroing (a
-/// `memset` per run cost about 2 % of a DFSPH dam break).
-#[derive(Debug, Default)]
-pub(crate) struct ChunkBuffer {
-    slots: Vec<u32>,
-    len: usize,
-}
-
-impl ChunkBuffer {
-    /// The indices written so far.
-    fn filled(&self) -> &[u32] {
-        &self.slots[..self.len]
-    }
-}
-
-impl Clone for QueryScratch {
-    fn clone(&self) -> Self {
-        Self::default()
-    }
-}
-
-impl QueryScratch {
-    fn take(&self) -> Vec<ChunkBuffer> {
-        self.0
-            .lock()
-            .map(|mut buffers| std::mem::take(&mut *buffers))
-            .unwrap_or_default()
-    }
-
-    fn put_back(&self, buffers: Vec<ChunkBuffer>) {
-        if let Ok(mut slot) = self.0.lock() {
-            *slot = buffers;
-        }
-    }
-}
 
 impl<const D: usize> CellGrid<D> {
     /// Calls `f(run, image)` with each run of built-particle indices (one run per contiguous

@@ -13,7 +13,7 @@
 
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real, SoilFields};
 use geosph_scene::Scene;
@@ -338,6 +338,51 @@ impl Checkpoint {
             )));
         }
         Ok(checkpoint)
+    }
+}
+
+/// When the next checkpoint is due. Checkpoints do not shorten steps (the run is the same
+/// with or without them): one is written after the first step that reaches its time.
+pub(crate) enum CheckpointClock {
+    Never,
+    Simulated { interval: Real, next: Real },
+    Wall { interval: Duration, last: Instant },
+}
+
+impl CheckpointClock {
+    pub(crate) fn new(every: Option<CheckpointEvery>, time: Real) -> Self {
+        match every {
+            None => Self::Never,
+            Some(CheckpointEvery::Simulated(interval)) => Self::Simulated {
+                interval,
+                next: ((time / interval).floor() + 1.0) * interval,
+            },
+            Some(CheckpointEvery::Wall(interval)) => Self::Wall {
+                interval,
+                last: Instant::now(),
+            },
+        }
+    }
+
+    /// Whether a checkpoint is due at `time`; if so, the clock moves on to the next one.
+    pub(crate) fn due(&mut self, time: Real) -> bool {
+        match self {
+            Self::Never => false,
+            Self::Simulated { interval, next } => {
+                let due = time >= *next;
+                if due {
+                    *next = ((time / *interval).floor() + 1.0) * *interval;
+                }
+                due
+            }
+            Self::Wall { interval, last } => {
+                let due = last.elapsed() >= *interval;
+                if due {
+                    *last = Instant::now();
+                }
+                due
+            }
+        }
     }
 }
 

@@ -21,7 +21,9 @@
 //! - [`escape`]: particles that leave the domain, removed from the run, counted and reported.
 //! - [`interrupt`]: the Ctrl-C flag the loop checks once per step.
 //! - [`checkpoint`]: the complete state of a run in `checkpoint.bin`, for a bitwise restart.
-//! - [`run`](mod@run): the loop, [`RunOptions`], [`Summary`], [`RunError`].
+//! - [`run`](mod@run): [`run`](fn@run), [`RunOptions`], [`Summary`], [`RunError`]; the loop
+//!   itself is a private run-loop type (start or restart, step, sample, output, checkpoint,
+//!   blow-up, finish).
 //!
 //! # Example
 //!
@@ -53,9 +55,12 @@ pub mod escape;
 pub mod health;
 pub mod interrupt;
 pub mod observer;
+mod options;
 pub mod output;
 pub mod probes;
 pub mod run;
+mod run_loop;
+mod summary;
 
 pub use checkpoint::CheckpointEvery;
 pub use observer::{NoObserver, Observer, push_records, take_records};

@@ -2,9 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use geosph_boundary::WallParticles;
-use geosph_core::{Particles, Real};
+use geosph_core::{Particles, Real, Vector};
 use geosph_io::{CsvSeries, Error, Field, Frame, PvdCollection, write_vtu_sets};
+use geosph_sph::Solver;
 
 /// Frames (`frames/<name>_NNNNNN.vtu`), their series `<name>.pvd` and `diagnostics.csv` in one
 /// folder. Every file is written atomically, so a killed run leaves only complete files.
@@ -168,44 +168,47 @@ impl RunOutput {
         self.frames
     }
 
-    /// Writes the fluid (set 0) and the walls (set 1) at `time` as the next frame and adds it
-    /// to the `.pvd`; does nothing when VTK output is off.
+    /// Writes the particles (set 0) and the walls of `solver` (set 1) at `time` as the next
+    /// frame and adds it to the `.pvd`; does nothing when VTK output is off.
     pub fn write_frame<const D: usize>(
         &mut self,
         time: Real,
         fluid: &Particles<D>,
-        walls: &WallParticles<D>,
+        solver: &dyn Solver<D>,
     ) -> Result<(), Error> {
         let Some(pvd) = &mut self.pvd else {
             return Ok(());
         };
         let file = format!("frames/{}_{:06}.vtu", self.name, self.frames);
-        write_sets(&self.dir.join(&file), fluid, walls)?;
+        write_sets(&self.dir.join(&file), fluid, solver)?;
         pvd.add(time, &file)?;
         self.frames += 1;
         Ok(())
     }
 
-    /// Writes the fluid and the walls to `file` in the folder, outside the series (the frame
-    /// of an interrupted run), whether or not VTK output is on; returns its path.
+    /// Writes the particles and the walls of `solver` to `file` in the folder, outside the
+    /// series (the frame of an interrupted run), whether or not VTK output is on; returns its
+    /// path.
     pub fn write_snapshot<const D: usize>(
         &self,
         file: &str,
         fluid: &Particles<D>,
-        walls: &WallParticles<D>,
+        solver: &dyn Solver<D>,
     ) -> Result<PathBuf, Error> {
         let path = self.dir.join(file);
-        write_sets(&path, fluid, walls)?;
+        write_sets(&path, fluid, solver)?;
         Ok(path)
     }
 }
 
-/// Writes the fluid (set 0) and the walls (set 1) to the VTU file `path`.
+/// Writes the particles (set 0), with their fields and the quantities `solver` derives from
+/// them ([`Solver::output_scalars`]), and the solver's walls (set 1) to the VTU file `path`.
 fn write_sets<const D: usize>(
     path: &Path,
     fluid: &Particles<D>,
-    walls: &WallParticles<D>,
+    solver: &dyn Solver<D>,
 ) -> Result<(), Error> {
+    let walls = solver.walls();
     let mut fluid_frame = Frame::new(&fluid.position)
         .with(Field::vector("velocity", &fluid.velocity))
         .with(Field::scalar("density", &fluid.density))
@@ -213,13 +216,23 @@ fn write_sets<const D: usize>(
     if let Some(pressure) = &fluid.pressure {
         fluid_frame = fluid_frame.with(Field::scalar("pressure", pressure));
     }
-    let soil = fluid.soil.as_ref().map(SoilFrameFields::<D>::of);
-    if let (Some(soil), Some(fields)) = (&soil, &fluid.soil) {
+    let derived = solver.output_scalars(fluid);
+    if let Some(fields) = &fluid.soil {
         fluid_frame = fluid_frame.with(Field::tensor("stress", &fields.stress));
-        for (name, values) in &soil.scalars {
-            fluid_frame = fluid_frame.with(Field::scalar(name, values));
-        }
-        fluid_frame = fluid_frame.with(Field::vector("displacement", &soil.displacement));
+    }
+    for (name, values) in &derived {
+        fluid_frame = fluid_frame.with(Field::scalar(name, values));
+    }
+    let displacement: Vec<Vector<D>>;
+    if let Some(fields) = &fluid.soil {
+        displacement = fields
+            .displacement
+            .iter()
+            .map(|u| Vector::<D>::from_fn(|k, _| u[k]))
+            .collect();
+        fluid_frame = fluid_frame
+            .with(Field::scalar("plastic_strain", &fields.plastic_strain))
+            .with(Field::vector("displacement", &displacement));
     }
     let wall_frame = Frame::new(&walls.position)
         .with(Field::vector("velocity", &walls.velocity))
@@ -237,41 +250,5 @@ impl RunOutput {
     /// Flushes the CSV.
     pub fn flush(&mut self) -> Result<(), Error> {
         self.csv.flush()
-    }
-}
-
-/// The per-particle soil quantities of a frame besides the stress tensor: σ components
-/// (tension positive; xz and yz in 3D only), p = −I₁/3 and q = √(3J₂) (compression positive),
-/// the accumulated equivalent plastic strain and the displacement.
-struct SoilFrameFields<const D: usize> {
-    scalars: Vec<(&'static str, Vec<Real>)>,
-    displacement: Vec<geosph_core::Vector<D>>,
-}
-
-impl<const D: usize> SoilFrameFields<D> {
-    fn of(soil: &geosph_core::SoilFields) -> Self {
-        use geosph_soil::invariants::{deviatoric_stress, mean_pressure};
-        let component = |a: usize, b: usize| soil.stress.iter().map(|s| s[(a, b)]).collect();
-        let mut scalars = vec![
-            ("stress_xx", component(0, 0)),
-            ("stress_yy", component(1, 1)),
-            ("stress_zz", component(2, 2)),
-            ("stress_xy", component(0, 1)),
-        ];
-        if D == 3 {
-            scalars.push(("stress_xz", component(0, 2)));
-            scalars.push(("stress_yz", component(1, 2)));
-        }
-        scalars.push(("p", soil.stress.iter().map(mean_pressure).collect()));
-        scalars.push(("q", soil.stress.iter().map(deviatoric_stress).collect()));
-        scalars.push(("plastic_strain", soil.plastic_strain.clone()));
-        Self {
-            scalars,
-            displacement: soil
-                .displacement
-                .iter()
-                .map(|u| geosph_core::Vector::<D>::from_fn(|k, _| u[k]))
-                .collect(),
-        }
     }
 }

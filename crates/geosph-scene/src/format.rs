@@ -4,8 +4,6 @@ use geosph_core::Real;
 use geosph_fluid::{IncompressibleConfig, WcsphConfig};
 use serde::{Deserialize, Serialize};
 
-use crate::validate::SceneError;
-
 /// A simulation scene. Coordinates are lists of `dimension` numbers, in metres.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -266,6 +264,28 @@ impl SolverSpec {
         }
     }
 
+    /// How the solver's particles start, as its configuration decides.
+    pub fn particle_start(&self) -> geosph_sph::ParticleStart {
+        match self {
+            SolverSpec::Wcsph(config) => config.particle_start(),
+            SolverSpec::Soil(config) => config.particle_start(),
+            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
+                config.particle_start()
+            }
+        }
+    }
+
+    /// Checks the solver's configuration (fields relative to the solver block).
+    pub fn validate(&self) -> Result<(), geosph_sph::ConfigError> {
+        match self {
+            SolverSpec::Wcsph(config) => config.validate(),
+            SolverSpec::Soil(config) => config.validate(),
+            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
+                config.validate()
+            }
+        }
+    }
+
     /// The names [`SolverSpec::from_name`] accepts.
     pub const NAMES: [&'static str; 4] = ["wcsph", "pcisph", "iisph", "dfsph"];
 
@@ -282,12 +302,6 @@ impl SolverSpec {
 }
 
 impl Scene {
-    /// Reads a scene from RON text; errors carry the line and column, the path of the field
-    /// being read (e.g. `fluid.blocks[0].max`) and the offending text.
-    pub fn from_ron(text: &str) -> Result<Self, SceneError> {
-        crate::parse::scene(text)
-    }
-
     /// Writes the scene as pretty RON.
     pub fn to_ron(&self) -> String {
         ron::Options::default()

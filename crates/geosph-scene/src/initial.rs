@@ -2,10 +2,9 @@
 //! velocity field.
 
 use geosph_core::{Particles, Real, Vector};
-use geosph_fluid::EquationOfState;
+use geosph_sph::EquationOfState;
 
 use crate::format::InitialVelocity;
-use crate::setup::vector;
 
 /// Moves every point by a uniform random offset in [−amplitude, amplitude] per axis, drawn
 /// from a SplitMix64 sequence with a fixed seed (Steele et al. 2014), so that a scene always
@@ -81,6 +80,11 @@ pub(crate) fn set_velocity<const D: usize>(
             fluid.pressure = Some(pressure);
         }
     }
+}
+
+/// The first `D` of `values` as a vector (after validation, exactly `D`).
+pub(crate) fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
+    Vector::<D>::from_fn(|k, _| values[k])
 }
 
 #[cfg(test)]

@@ -36,6 +36,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod error;
 pub mod format;
 mod initial;
 mod parse;

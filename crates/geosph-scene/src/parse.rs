@@ -2,8 +2,16 @@
 
 use serde::Deserialize;
 
+use crate::error::SceneError;
 use crate::format::Scene;
-use crate::validate::SceneError;
+
+impl Scene {
+    /// Reads a scene from RON text; errors carry the line and column, the path of the field
+    /// being read (e.g. `fluid.blocks[0].max`) and the offending text.
+    pub fn from_ron(text: &str) -> Result<Self, SceneError> {
+        scene(text)
+    }
+}
 
 /// Longest excerpt of the offending text quoted in an error.
 const MAX_EXCERPT: usize = 40;

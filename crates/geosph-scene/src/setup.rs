@@ -2,13 +2,13 @@
 
 use geosph_boundary::{WallParticles, generate};
 use geosph_core::{Domain, Particles, Real, Vector};
-use geosph_fluid::EquationOfState;
 use geosph_kernels::KernelKind;
+use geosph_sph::EquationOfState;
 use geosph_sph::SphSetup;
 
-use crate::format::{Region, Scene, SolverSpec, WallSpec};
-use crate::initial::{initial_speed, jitter, set_velocity};
-use crate::validate::SceneError;
+use crate::error::SceneError;
+use crate::format::{Region, Scene, WallSpec};
+use crate::initial::{initial_speed, jitter, set_velocity, vector};
 
 /// What a solver is built from: the scene turned into particles and numbers.
 #[derive(Clone, Debug)]
@@ -137,11 +137,6 @@ fn behind_polyline<const D: usize>(
     None
 }
 
-/// The first `D` of `values` as a vector (after validation, exactly `D`).
-pub(crate) fn vector<const D: usize>(values: &[Real]) -> Vector<D> {
-    Vector::<D>::from_fn(|k, _| values[k])
-}
-
 /// Builds the particles and solver inputs of a validated `scene` in `D` dimensions.
 ///
 /// # Panics
@@ -206,27 +201,15 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     let top = surface.iter().copied().fold(Real::NEG_INFINITY, Real::max);
     let fluid_height = top - bottom;
 
-    // Incompressible solvers use c₀ only as the velocity scale of artificial viscosity, and
-    // recompute the density by summation; their particles start at ρ₀ with Tait's inverse.
-    // Soil derives its wave speed from the elastic constants and starts at ρ = ρ₀.
-    let (equation_of_state, given_sound_speed, background_pressure) = match &scene.solver {
-        SolverSpec::Wcsph(config) => (
-            config.equation_of_state,
-            config.sound_speed,
-            config.background_pressure,
-        ),
-        SolverSpec::Pcisph(_) | SolverSpec::Iisph(_) | SolverSpec::Dfsph(_) => {
-            (geosph_fluid::EosKind::Tait { gamma: 7.0 }, None, 0.0)
-        }
-        SolverSpec::Soil(_) => (geosph_fluid::EosKind::Tait { gamma: 7.0 }, Some(0.0), 0.0),
-    };
-    let hydrostatic = fluid_spec.hydrostatic && !matches!(scene.solver, SolverSpec::Soil(_));
+    // How the particles start is the solver configuration's decision.
+    let start = scene.solver.particle_start();
+    let hydrostatic = fluid_spec.hydrostatic && start.hydrostatic;
     let g = gravity.norm();
     // The expected largest speed: the collapse speed √(2 g H) or the initial speed.
     let largest_speed = (2.0 * g * fluid_height)
         .sqrt()
         .max(initial_speed(&fluid_spec.velocity, &position));
-    let sound_speed = match given_sound_speed {
+    let sound_speed = match start.sound_speed {
         Some(c0) => c0,
         None if largest_speed > 0.0 => 10.0 * largest_speed,
         None => {
@@ -239,8 +222,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         }
     };
     let rest_density = fluid_spec.density;
+    let background_pressure = start.background_pressure;
     let eos = EquationOfState {
-        kind: equation_of_state,
+        kind: start.equation_of_state,
         rest_density,
         sound_speed,
         background_pressure,

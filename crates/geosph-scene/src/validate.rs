@@ -1,27 +1,10 @@
 //! Validation of a scene before any work is done.
 
 use geosph_core::Real;
-use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
-use geosph_fluid::{EosKind, IncompressibleConfig, WcsphConfig};
 use geosph_kernels::KernelKind;
 
+pub use crate::error::SceneError;
 use crate::format::{FluidSpec, InitialVelocity, Region, Scene, SolverSpec, WallSpec};
-
-/// What is wrong with a scene.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum SceneError {
-    /// The RON text could not be read (the message has line:column).
-    #[error("scene file: {0}")]
-    Parse(String),
-    /// A value is out of its allowed range.
-    #[error("scene field `{field}`: {message}")]
-    Field {
-        /// The field's path, e.g. `fluid.blocks[0].max`.
-        field: String,
-        /// What is allowed and what was given.
-        message: String,
-    },
-}
 
 fn fail(field: impl Into<String>, message: impl Into<String>) -> SceneError {
     SceneError::Field {
@@ -321,15 +304,9 @@ impl Scene {
                 }
             }
         }
-        match &self.solver {
-            SolverSpec::Wcsph(config) => validate_wcsph(config),
-            SolverSpec::Soil(config) => config
-                .validate()
-                .map_err(|error| fail(format!("solver.{}", error.field), error.message)),
-            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
-                validate_incompressible(config)
-            }
-        }
+        self.solver
+            .validate()
+            .map_err(|error| fail(format!("solver.{}", error.field), error.message))
     }
 
     /// An upper estimate of the particles (fluid and wall) the scene makes, from the size of
@@ -425,96 +402,4 @@ impl Scene {
         }
         Ok(())
     }
-}
-
-fn validate_wcsph(config: &WcsphConfig) -> Result<(), SceneError> {
-    if let EosKind::Tait { gamma } = config.equation_of_state {
-        in_range("solver.equation_of_state.gamma", gamma, 1.0, 10.0)?;
-    }
-    if let Some(c0) = config.sound_speed {
-        positive("solver.sound_speed", c0)?;
-    }
-    match config.diffusion {
-        DiffusionConfig::None => {}
-        DiffusionConfig::Molteni { delta } | DiffusionConfig::Antuono { delta } => {
-            in_range("solver.diffusion.delta", delta, 0.0, 1.0)?
-        }
-    }
-    validate_viscosity(config.viscosity)?;
-    in_range("solver.xsph", config.xsph, 0.0, 1.0)?;
-    if !(config.background_pressure.is_finite() && config.background_pressure >= 0.0) {
-        return Err(fail(
-            "solver.background_pressure",
-            format!(
-                "must be a finite number ≥ 0 Pa, got {}",
-                config.background_pressure
-            ),
-        ));
-    }
-    in_range("solver.neighbour_skin", config.neighbour_skin, 0.0, 1.0)?;
-    // Beyond C = 1 a sound wave crosses more than a smoothing length per step. Explicit
-    // schemes are usually run at C ≤ 0.4 (Monaghan 1992); the measured limits of each solver
-    // and kernel are in docs/stability.md, and a run that goes unstable is stopped with a
-    // diagnosis.
-    if !(config.cfl.is_finite() && config.cfl > 0.0 && config.cfl <= 1.0) {
-        return Err(fail(
-            "solver.cfl",
-            format!(
-                "must lie in (0, 1] for the explicit {:?} integrator, got {}",
-                config.integrator, config.cfl
-            ),
-        ));
-    }
-    Ok(())
-}
-
-fn validate_viscosity(viscosity: ViscosityConfig) -> Result<(), SceneError> {
-    match viscosity {
-        ViscosityConfig::None => Ok(()),
-        ViscosityConfig::Artificial { alpha, beta } => {
-            in_range("solver.viscosity.alpha", alpha, 0.0, 1.0)?;
-            in_range("solver.viscosity.beta", beta, 0.0, 2.0)
-        }
-        ViscosityConfig::Laminar {
-            kinematic_viscosity,
-        } => positive("solver.viscosity.kinematic_viscosity", kinematic_viscosity),
-    }
-}
-
-fn validate_incompressible(config: &IncompressibleConfig) -> Result<(), SceneError> {
-    in_range(
-        "solver.target_density_error",
-        config.target_density_error,
-        1e-6,
-        0.1,
-    )?;
-    in_range(
-        "solver.max_compression",
-        config.max_compression,
-        config.target_density_error,
-        1.0,
-    )?;
-    in_range(
-        "solver.target_divergence_error",
-        config.target_divergence_error,
-        1e-6,
-        0.1,
-    )?;
-    if config.max_iterations == 0 || config.max_iterations < config.min_iterations {
-        return Err(fail(
-            "solver.max_iterations",
-            format!(
-                "must be at least 1 and at least min_iterations = {}, got {}",
-                config.min_iterations, config.max_iterations
-            ),
-        ));
-    }
-    // A particle must not cross more than one spacing per step, or pairs enter the support
-    // unseen by the pressure solve.
-    in_range("solver.cfl", config.cfl, 1e-3, 1.0)?;
-    if let Some(dt) = config.max_time_step {
-        positive("solver.max_time_step", dt)?;
-    }
-    in_range("solver.relaxation", config.relaxation, 0.05, 1.0)?;
-    validate_viscosity(config.viscosity)
 }

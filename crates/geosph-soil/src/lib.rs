@@ -11,9 +11,9 @@
 //! - [`material`]: validated soil parameters ([`SoilMaterial`]), elastic constants
 //!   ([`ElasticConstants`]: G, K, λ, Hooke's law) and the Drucker–Prager constants matched to
 //!   Mohr–Coulomb in plane strain ([`DruckerPragerConstants`]: α_φ, k_c, α_ψ).
-//! - [`constitutive`]: the [`Constitutive`] trait (σ_n, Δε, Δω → σ_{n+1}, Δε̄ᵖ), its result
-//!   [`StressUpdate`], the scene-level [`ConstitutiveConfig`] and the enum [`SoilModel`] it
-//!   builds.
+//! - [`constitutive`]: the [`Constitutive`] trait (σ_n, Δε, Δω → σ_{n+1}, Δε̄ᵖ) and its
+//!   result [`StressUpdate`].
+//! - [`model`]: the scene-level [`ConstitutiveConfig`] and the enum [`SoilModel`] it builds.
 //! - [`elastic`]: [`LinearElastic`] (hypoelastic, Jaumann rate).
 //! - [`drucker_prager`]: [`DruckerPragerBui2008`], elastic–perfectly plastic Drucker–Prager
 //!   with associated or non-associated flow, integrated by [`ReturnAlgorithm::Bui2008`]
@@ -56,15 +56,17 @@ pub mod element;
 pub mod invariants;
 pub mod kinematics;
 pub mod material;
+pub mod model;
 #[cfg(feature = "sph")]
 pub mod sph;
 
-pub use constitutive::{Constitutive, ConstitutiveConfig, Response, SoilModel, StressUpdate};
+pub use constitutive::{Constitutive, Response, StressUpdate};
 pub use drucker_prager::{DruckerPragerBui2008, ReturnAlgorithm};
 pub use elastic::LinearElastic;
 pub use element::{
     ElementTest, ElementTestError, LoadingPath, PathPoint, run_element_test, write_csv,
 };
 pub use material::{DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial};
+pub use model::{ConstitutiveConfig, SoilModel};
 #[cfg(feature = "sph")]
 pub use sph::{GeostaticReport, SoilConfig, SoilError, build_soil};

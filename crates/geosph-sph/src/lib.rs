@@ -5,7 +5,12 @@
 //! - [`solver`]: the [`Solver`] interface the runner steps, its [`StepReport`] and
 //!   [`SolverError`], and the event-aligned step ([`event_step`]).
 //! - [`state`]: [`SolverState`], what a solver saves in a checkpoint to continue bitwise.
-//! - [`setup`]: [`SphSetup`], the scene-level inputs of every solver.
+//! - [`setup`]: [`SphSetup`], the scene-level inputs of every solver, and [`ParticleStart`],
+//!   how a solver's configuration wants its particles to start.
+//! - [`eos`]: equations of state (Tait, linear) and their inverses, for WCSPH and for the
+//!   initial density of any liquid.
+//! - [`config_error`]: [`ConfigError`] and the range checks every solver configuration
+//!   validates itself with.
 //! - [`lists`]: [`PairLists`], the one owner of the grids, the inner and wall contact lists,
 //!   the Verlet skin and the Z-order schedule, with the pair visitors that hand each term
 //!   j, r_ij, r² and ∇_i W_ij.
@@ -15,7 +20,9 @@
 //! - [`lattice`]: kernel sums and gradient calibration on the initial lattice.
 #![warn(missing_docs)]
 
+pub mod config_error;
 pub mod density_error;
+pub mod eos;
 pub mod lattice;
 pub mod lists;
 pub mod pair_arrays;
@@ -24,9 +31,11 @@ pub mod solver;
 pub mod state;
 pub mod viscosity;
 
+pub use config_error::ConfigError;
 pub use density_error::{compression, density_errors};
+pub use eos::{EosKind, EquationOfState};
 pub use lists::{Neighbour, PairLists};
-pub use setup::SphSetup;
+pub use setup::{ParticleStart, SphSetup};
 pub use solver::{Solver, SolverError, StageReport, StepReport, event_step, max_speed};
 pub use state::{SolverState, StateArrays, StateError};
 pub use viscosity::{

@@ -4,6 +4,8 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Domain, Real, Vector};
 use geosph_kernels::KernelKind;
 
+use crate::eos::EosKind;
+
 /// The scene-level inputs of a solver: kernel, domain, material reference values, gravity and
 /// walls.
 pub struct SphSetup<const D: usize> {
@@ -24,4 +26,21 @@ pub struct SphSetup<const D: usize> {
     pub walls: WallParticles<D>,
     /// Particle spacing dx.
     pub spacing: Real,
+}
+
+/// How a solver's particles start, decided by its configuration (`particle_start` of each
+/// solver config) and applied by the scene when it builds them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParticleStart {
+    /// The form of ρ(p) that sets the initial density under pressure (a hydrostatic start, an
+    /// initial pressure field).
+    pub equation_of_state: EosKind,
+    /// Its background pressure p_b.
+    pub background_pressure: Real,
+    /// c₀ fixed by the configuration; `None`: the scene's rule, 10 × the largest expected
+    /// speed (max(√(2 |g| H), the largest initial speed)).
+    pub sound_speed: Option<Real>,
+    /// Whether the particles may start in hydrostatic equilibrium when the scene asks (a
+    /// liquid), or always start at ρ₀ (a solid, whose stress comes from its geostatic stage).
+    pub hydrostatic: bool,
 }

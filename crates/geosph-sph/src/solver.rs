@@ -118,6 +118,13 @@ pub trait Solver<const D: usize>: Send {
     /// The wall particles, with their current pressure.
     fn walls(&self) -> &WallParticles<D>;
 
+    /// Per-particle quantities derived from `particles` for output (the soil's stress
+    /// components and invariants), by name; the runner writes them into every frame after
+    /// the particles' own fields. None by default.
+    fn output_scalars(&self, _particles: &Particles<D>) -> Vec<(&'static str, Vec<Real>)> {
+        Vec::new()
+    }
+
     /// The reference sound speed c₀ (0 for incompressible solvers).
     fn sound_speed(&self) -> Real;
 

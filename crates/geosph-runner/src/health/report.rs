@@ -3,7 +3,6 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_sph::Solver;
 
@@ -64,7 +63,7 @@ pub const CLOSEST: usize = 6;
 pub struct BlowUpReport<'a, const D: usize> {
     /// Scene name.
     pub scene: &'a str,
-    /// The solver (its name and advice, the density error it controls).
+    /// The solver (its name and advice, the density error it controls, its walls).
     pub solver: &'a dyn Solver<D>,
     /// What went wrong.
     pub diagnosis: &'a Diagnosis,
@@ -77,8 +76,6 @@ pub struct BlowUpReport<'a, const D: usize> {
     pub failed: &'a Particles<D>,
     /// The state before the failed step, and its time.
     pub last_good: (&'a Particles<D>, Real),
-    /// The walls.
-    pub walls: &'a WallParticles<D>,
     /// The run's bounds.
     pub limits: &'a Limits<D>,
     /// The files written beside the report, named in it: (last good, failed) state.
@@ -89,10 +86,10 @@ impl<const D: usize> BlowUpReport<'_, D> {
     /// Writes the last good state, the failed state (both with the walls) and the report into
     /// the folder of `output`, each atomically, in that order.
     pub fn save(&self, output: &RunOutput) -> BlowUpFiles {
-        let walls = self.walls;
+        let solver = self.solver;
         let written = (|| {
-            let last_good = output.write_snapshot(self.frames.0, self.last_good.0, walls)?;
-            let failed = output.write_snapshot(self.frames.1, self.failed, walls)?;
+            let last_good = output.write_snapshot(self.frames.0, self.last_good.0, solver)?;
+            let failed = output.write_snapshot(self.frames.1, self.failed, solver)?;
             let report = output.dir().join(REPORT_FILE);
             self.write(&report)?;
             Ok::<_, geosph_io::Error>(BlowUpFiles::Written {
@@ -289,7 +286,8 @@ impl<const D: usize> BlowUpReport<'_, D> {
             .collect();
         near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let walls: Vec<Real> = self
-            .walls
+            .solver
+            .walls()
             .position
             .iter()
             .map(|y| domain.displacement(x, y).norm())

@@ -1,19 +1,16 @@
 //! Scene-level configuration of the soil solver, its validation, and the factory that builds a
 //! solver from it (monomorphised over the kernel).
 
-use geosph_core::{Particles, Real};
-use geosph_kernels::{Kernel, KernelVisitor};
+use geosph_core::Real;
 use geosph_neighbours::SearchError;
-use geosph_sph::{ArtificialMonaghan1992, Solver, SphSetup};
+pub use geosph_sph::ConfigError;
+use geosph_sph::ParticleStart;
+use geosph_sph::config_error::in_range;
 use serde::{Deserialize, Serialize};
 
-use crate::constitutive::{Constitutive, ConstitutiveConfig};
 use crate::drucker_prager::ReturnAlgorithm;
 use crate::material::{MaterialError, SoilMaterial};
-use crate::sph::geostatic::GeostaticConfig;
-use crate::sph::solver::SoilSolver;
-use crate::sph::system::SoilSystem;
-use crate::sph::terms::ArtificialStressGray2001;
+use crate::model::ConstitutiveConfig;
 
 /// Monaghan (1992) artificial viscosity between soil particles.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -175,25 +172,90 @@ impl Default for SoilConfig {
     }
 }
 
-/// A soil-solver setting out of range: the field (relative to the solver block) and what is
-/// allowed.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("`{field}`: {message}")]
-pub struct ConfigError {
-    /// The field, e.g. `artificial_viscosity.alpha`.
-    pub field: String,
-    /// The allowed range and the value given.
-    pub message: String,
+/// A box (lower and upper corner, `dimension` numbers each) of wall particles to remove at
+/// release, e.g. a retaining wall.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReleaseBox {
+    /// Lower corner.
+    pub min: Vec<Real>,
+    /// Upper corner.
+    pub max: Vec<Real>,
 }
 
-fn in_range(field: &str, value: Real, low: Real, high: Real) -> Result<(), ConfigError> {
-    if value.is_finite() && value >= low && value <= high {
+/// Parameters of the geostatic stage.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GeostaticConfig {
+    /// Damping ratio ζ of the fundamental mode of the soil height H: the stage damps with
+    /// μ = 2ζω₁, ω₁ = πc/(2H) (shear-free column, c the P-wave speed); default 1 (critical).
+    pub damping_ratio: Real,
+    /// The stage ends when E_k < tolerance × ½ M (gH/c)² (the kinetic energy of the whole
+    /// mass M at the particle speed gH/c of the loading wave) after at least one period
+    /// 4H/c of the fundamental mode; default 10⁻⁶.
+    pub kinetic_energy_tolerance: Real,
+    /// Longest stage in simulated seconds (default 1); a stage that reaches it reports
+    /// `converged = false`.
+    pub max_time: Real,
+    /// Wall particles removed at release.
+    pub release: Vec<ReleaseBox>,
+    /// Make every wall free-slip during the stage, as roller boundaries in a gravity-loading
+    /// step (default false): walls that hold the soil by shear carry part of its weight (the
+    /// silo effect of Janssen 1895), so σ_v falls short of ρ g (H − y) next to them. A
+    /// cohesionless column between free-slip walls may creep instead of coming to rest.
+    pub free_slip_walls: bool,
+}
+
+impl Default for GeostaticConfig {
+    fn default() -> Self {
+        Self {
+            damping_ratio: 1.0,
+            kinetic_energy_tolerance: 1e-6,
+            max_time: 1.0,
+            release: Vec::new(),
+            free_slip_walls: false,
+        }
+    }
+}
+
+impl GeostaticConfig {
+    /// Checks the ranges.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let check = |field: &str, value: Real, ok: bool, allowed: &str| {
+            if ok && value.is_finite() {
+                Ok(())
+            } else {
+                Err(ConfigError {
+                    field: format!("geostatic.{field}"),
+                    message: format!("must lie in {allowed}, got {value}"),
+                })
+            }
+        };
+        let zeta = self.damping_ratio;
+        check("damping_ratio", zeta, zeta > 0.0 && zeta <= 10.0, "(0, 10]")?;
+        let tol = self.kinetic_energy_tolerance;
+        check(
+            "kinetic_energy_tolerance",
+            tol,
+            tol > 0.0 && tol < 1.0,
+            "(0, 1)",
+        )?;
+        check("max_time", self.max_time, self.max_time > 0.0, "(0, inf)")?;
+        for (k, release) in self.release.iter().enumerate() {
+            if release.min.len() != release.max.len()
+                || release
+                    .min
+                    .iter()
+                    .zip(&release.max)
+                    .any(|(a, b)| a.partial_cmp(b) != Some(std::cmp::Ordering::Less))
+            {
+                return Err(ConfigError {
+                    field: format!("geostatic.release[{k}]"),
+                    message: "needs min < max on every axis".into(),
+                });
+            }
+        }
         Ok(())
-    } else {
-        Err(ConfigError {
-            field: field.to_owned(),
-            message: format!("must lie in [{low}, {high}], got {value}"),
-        })
     }
 }
 
@@ -207,6 +269,19 @@ impl From<MaterialError> for ConfigError {
 }
 
 impl SoilConfig {
+    /// Soil particles start at ρ₀, never hydrostatic (their stress comes from the geostatic
+    /// stage); c₀ = 0 leaves the wave speed to the solver, which takes it from the elastic
+    /// constants. Soil has no equation of state: the one given only fills the field (the
+    /// scene's initial pressure fields, hydrostatic or Taylor–Green, are for liquids).
+    pub fn particle_start(&self) -> ParticleStart {
+        ParticleStart {
+            equation_of_state: geosph_sph::EosKind::Tait { gamma: 7.0 },
+            background_pressure: 0.0,
+            sound_speed: Some(0.0),
+            hydrostatic: false,
+        }
+    }
+
     /// Checks every value against its allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.constitutive.build()?;
@@ -264,78 +339,6 @@ pub enum SoilError {
     /// A step of the geostatic stage failed.
     #[error("geostatic stage: {0}")]
     Step(#[from] geosph_sph::SolverError),
-}
-
-/// Builds the soil solver that `config` describes for `particles` (whose soil fields it
-/// creates), monomorphised over the kernel. A geostatic stage in `config` is run by the
-/// solver's [`Solver::initial_stage`], which the runner calls before t = 0 of a new run.
-pub fn build_soil<const D: usize>(
-    config: &SoilConfig,
-    setup: SphSetup<D>,
-    particles: &mut Particles<D>,
-) -> Result<Box<dyn Solver<D>>, SoilError> {
-    config.validate()?;
-    let (kernel, h) = (setup.kernel, setup.smoothing_length);
-    kernel.dispatch::<D, _>(
-        h,
-        SoilBuilder {
-            config,
-            setup,
-            particles,
-        },
-    )
-}
-
-struct SoilBuilder<'a, const D: usize> {
-    config: &'a SoilConfig,
-    setup: SphSetup<D>,
-    particles: &'a mut Particles<D>,
-}
-
-impl<const D: usize> KernelVisitor<D> for SoilBuilder<'_, D> {
-    type Output = Result<Box<dyn Solver<D>>, SoilError>;
-
-    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let config = self.config;
-        let model = config.constitutive.build().map_err(ConfigError::from)?;
-        let wave_speed = (model.elastic().p_wave_modulus() / self.setup.rest_density).sqrt();
-        let viscosity = config
-            .artificial_viscosity
-            .map(|av| ArtificialMonaghan1992 {
-                alpha: av.alpha,
-                beta: av.beta,
-                smoothing_length: kernel.smoothing_length(),
-                sound_speed: wave_speed,
-            });
-        let spacing = particle_spacing::<D>(self.particles, self.setup.rest_density);
-        let artificial_stress = config.artificial_stress.map(|stress| {
-            ArtificialStressGray2001::new(&kernel, stress.epsilon, stress.exponent, spacing)
-        });
-        self.particles.enable_soil();
-        let mut system = SoilSystem::new(
-            kernel,
-            self.setup,
-            model,
-            viscosity,
-            artificial_stress,
-            config.walls,
-            spacing,
-            config.neighbour_skin,
-        )?;
-        system.set_velocity_gradient_correction(config.velocity_gradient_correction);
-        system.lists.reorder_every = config.reorder_every;
-        let mut solver = SoilSolver::new(system, config.cfl);
-        solver.regularisation = config.regularisation;
-        solver.geostatic = config.geostatic.clone();
-        solver.system.set_damping(config.damping.unwrap_or(0.0));
-        Ok(Box::new(solver))
-    }
-}
-
-/// The lattice spacing dx = (m/ρ₀)^{1/D} of the first particle.
-fn particle_spacing<const D: usize>(particles: &Particles<D>, rest_density: Real) -> Real {
-    let mass = particles.mass.first().copied().unwrap_or(rest_density);
-    (mass / rest_density).powf(1.0 / D as Real)
 }
 
 #[cfg(test)]

@@ -7,98 +7,10 @@ use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::{Solver, StageReport};
-use serde::{Deserialize, Serialize};
 
-use crate::sph::config::{ConfigError, SoilError, WallSlip};
+use crate::sph::config::{ConfigError, GeostaticConfig, SoilError, WallSlip};
 use crate::sph::solver::SoilSolver;
 use crate::sph::system::SoilSystem;
-
-/// A box (lower and upper corner, `dimension` numbers each) of wall particles to remove at
-/// release, e.g. a retaining wall.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ReleaseBox {
-    /// Lower corner.
-    pub min: Vec<Real>,
-    /// Upper corner.
-    pub max: Vec<Real>,
-}
-
-/// Parameters of the geostatic stage.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct GeostaticConfig {
-    /// Damping ratio ζ of the fundamental mode of the soil height H: the stage damps with
-    /// μ = 2ζω₁, ω₁ = πc/(2H) (shear-free column, c the P-wave speed); default 1 (critical).
-    pub damping_ratio: Real,
-    /// The stage ends when E_k < tolerance × ½ M (gH/c)² (the kinetic energy of the whole
-    /// mass M at the particle speed gH/c of the loading wave) after at least one period
-    /// 4H/c of the fundamental mode; default 10⁻⁶.
-    pub kinetic_energy_tolerance: Real,
-    /// Longest stage in simulated seconds (default 1); a stage that reaches it reports
-    /// `converged = false`.
-    pub max_time: Real,
-    /// Wall particles removed at release.
-    pub release: Vec<ReleaseBox>,
-    /// Make every wall free-slip during the stage, as roller boundaries in a gravity-loading
-    /// step (default false): walls that hold the soil by shear carry part of its weight (the
-    /// silo effect of Janssen 1895), so σ_v falls short of ρ g (H − y) next to them. A
-    /// cohesionless column between free-slip walls may creep instead of coming to rest.
-    pub free_slip_walls: bool,
-}
-
-impl Default for GeostaticConfig {
-    fn default() -> Self {
-        Self {
-            damping_ratio: 1.0,
-            kinetic_energy_tolerance: 1e-6,
-            max_time: 1.0,
-            release: Vec::new(),
-            free_slip_walls: false,
-        }
-    }
-}
-
-impl GeostaticConfig {
-    /// Checks the ranges.
-    pub fn validate(&self) -> Result<(), ConfigError> {
-        let check = |field: &str, value: Real, ok: bool, allowed: &str| {
-            if ok && value.is_finite() {
-                Ok(())
-            } else {
-                Err(ConfigError {
-                    field: format!("geostatic.{field}"),
-                    message: format!("must lie in {allowed}, got {value}"),
-                })
-            }
-        };
-        let zeta = self.damping_ratio;
-        check("damping_ratio", zeta, zeta > 0.0 && zeta <= 10.0, "(0, 10]")?;
-        let tol = self.kinetic_energy_tolerance;
-        check(
-            "kinetic_energy_tolerance",
-            tol,
-            tol > 0.0 && tol < 1.0,
-            "(0, 1)",
-        )?;
-        check("max_time", self.max_time, self.max_time > 0.0, "(0, inf)")?;
-        for (k, release) in self.release.iter().enumerate() {
-            if release.min.len() != release.max.len()
-                || release
-                    .min
-                    .iter()
-                    .zip(&release.max)
-                    .any(|(a, b)| a.partial_cmp(b) != Some(std::cmp::Ordering::Less))
-            {
-                return Err(ConfigError {
-                    field: format!("geostatic.release[{k}]"),
-                    message: "needs min < max on every axis".into(),
-                });
-            }
-        }
-        Ok(())
-    }
-}
 
 /// What the geostatic stage reached.
 #[derive(Clone, Debug, PartialEq)]
@@ -170,9 +82,20 @@ fn kinetic_energy<const D: usize>(soil: &Particles<D>) -> Real {
 }
 
 /// Runs the stage on `soil` with `solver`, then releases: removes the wall particles inside
-/// `config.release` ([`release_walls`]), zeroes velocity, displacement, strain and plastic
+/// `config.release` ([`SoilSystem::release_walls`]), zeroes velocity, displacement, strain and plastic
 /// strain, and gives the solver back the run's damping and wall slip.
-pub fn run_geostatic_stage<const D: usize, K: Kernel<D>>(
+impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
+    /// Runs the geostatic stage `config` on `soil` ([`Solver::initial_stage`] calls it).
+    pub fn run_geostatic_stage(
+        &mut self,
+        soil: &mut Particles<D>,
+        config: &GeostaticConfig,
+    ) -> Result<GeostaticReport, SoilError> {
+        run_stage(self, soil, config)
+    }
+}
+
+fn run_stage<const D: usize, K: Kernel<D>>(
     solver: &mut SoilSolver<D, K>,
     soil: &mut Particles<D>,
     config: &GeostaticConfig,
@@ -246,7 +169,7 @@ pub fn run_geostatic_stage<const D: usize, K: Kernel<D>>(
     report.kinetic_energy_ratio = ratio;
     report.residual_rms = residual_rms;
     report.residual_max = residual_max;
-    report.released_walls = release_walls(&mut solver.system, config)?;
+    report.released_walls = solver.system.release_walls(config)?;
     solver.system.set_damping_rate(run_damping);
     solver.system.wall_config.slip = run_slip;
     let fields = soil
@@ -260,19 +183,18 @@ pub fn run_geostatic_stage<const D: usize, K: Kernel<D>>(
     Ok(report)
 }
 
-/// Removes the wall particles inside `config.release` from `system` (the release at the end of
-/// the stage, applied again on a restart, whose solver is built with the walls of the scene)
-/// and returns how many.
-pub fn release_walls<const D: usize, K: Kernel<D>>(
-    system: &mut SoilSystem<D, K>,
-    config: &GeostaticConfig,
-) -> Result<usize, SearchError> {
-    system.remove_walls(|x| {
-        config
-            .release
-            .iter()
-            .any(|b| (0..D).all(|k| x[k] >= b.min[k] && x[k] <= b.max[k]))
-    })
+impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
+    /// Removes the wall particles inside the stage's `release` boxes (the release at the end
+    /// of the geostatic stage, applied again on a restart, whose solver is built with the walls
+    /// of the scene) and returns how many.
+    pub fn release_walls(&mut self, config: &GeostaticConfig) -> Result<usize, SearchError> {
+        self.remove_walls(|x| {
+            config
+                .release
+                .iter()
+                .any(|b| (0..D).all(|k| x[k] >= b.min[k] && x[k] <= b.max[k]))
+        })
+    }
 }
 
 impl GeostaticReport {

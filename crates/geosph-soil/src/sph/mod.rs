@@ -2,15 +2,18 @@
 //! stage and the solver the runner steps.
 //!
 //! - [`config`]: the scene block [`SoilConfig`] (constitutive model, stabilisation switches,
-//!   walls, geostatic stage), its validation and [`build_soil`].
+//!   walls, geostatic stage) and its validation.
+//! - [`build`]: [`build_soil`], the solver a [`SoilConfig`] describes.
 //! - [`system`]: [`SoilSystem`], one explicit step (velocity gradient, continuity, stress
 //!   update, momentum in symmetric form), monomorphised over kernel and switchable terms.
 //! - [`terms`]: artificial viscosity (Monaghan 1992) and artificial stress (Gray et al. 2001).
 //! - [`walls`]: Bui's β rule for dummy velocities and the wall-stress extrapolation.
 //! - [`regularise`]: Shepard and MLS stress regularisation (Nguyen et al. 2017).
-//! - [`geostatic`]: the geostatic stage with its [`GeostaticReport`] and the release.
+//! - [`geostatic`]: the geostatic stage ([`SoilSolver::run_geostatic_stage`]) with its
+//!   [`GeostaticReport`] and the release.
 //! - [`solver`]: [`SoilSolver`], the time step and the per-step bookkeeping.
 
+pub mod build;
 pub mod config;
 pub mod geostatic;
 pub mod regularise;
@@ -19,10 +22,11 @@ pub mod system;
 pub mod terms;
 pub mod walls;
 
+pub use build::build_soil;
 pub use config::{
-    ArtificialStressConfig, ArtificialViscosityConfig, ConfigError, RegularisationConfig,
-    SoilConfig, SoilError, SoilWallConfig, WallSlip, WallStress, build_soil,
+    ArtificialStressConfig, ArtificialViscosityConfig, ConfigError, GeostaticConfig,
+    RegularisationConfig, ReleaseBox, SoilConfig, SoilError, SoilWallConfig, WallSlip, WallStress,
 };
-pub use geostatic::{GeostaticConfig, GeostaticReport, ReleaseBox};
+pub use geostatic::GeostaticReport;
 pub use solver::SoilSolver;
 pub use system::SoilSystem;

@@ -8,8 +8,8 @@ use geosph_sph::{
 };
 use geosph_time::{StepLimits, time_step};
 
-use crate::sph::config::RegularisationConfig;
-use crate::sph::geostatic::{GeostaticConfig, release_walls, run_geostatic_stage};
+use crate::invariants::{deviatoric_stress, mean_pressure};
+use crate::sph::config::{GeostaticConfig, RegularisationConfig};
 use crate::sph::regularise::{RegularisationScratch, regularise_stress};
 use crate::sph::system::SoilSystem;
 
@@ -80,6 +80,29 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         "soil"
     }
 
+    /// The stress components (tension positive; xz and yz in 3D only), p = −I₁/3 and
+    /// q = √(3J₂) (compression positive).
+    fn output_scalars(&self, soil: &Particles<D>) -> Vec<(&'static str, Vec<Real>)> {
+        let Some(fields) = &soil.soil else {
+            return Vec::new();
+        };
+        let stress = &fields.stress;
+        let component = |a: usize, b: usize| stress.iter().map(|s| s[(a, b)]).collect();
+        let mut scalars = vec![
+            ("stress_xx", component(0, 0)),
+            ("stress_yy", component(1, 1)),
+            ("stress_zz", component(2, 2)),
+            ("stress_xy", component(0, 1)),
+        ];
+        if D == 3 {
+            scalars.push(("stress_xz", component(0, 2)));
+            scalars.push(("stress_yz", component(1, 2)));
+        }
+        scalars.push(("p", stress.iter().map(mean_pressure).collect()));
+        scalars.push(("q", stress.iter().map(deviatoric_stress).collect()));
+        scalars
+    }
+
     fn initial_stage(
         &mut self,
         soil: &mut Particles<D>,
@@ -87,7 +110,8 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         let Some(stage) = self.geostatic.take() else {
             return Ok(None);
         };
-        let report = run_geostatic_stage(self, soil, &stage)
+        let report = self
+            .run_geostatic_stage(soil, &stage)
             .map_err(|error| SolverError::Stage(error.to_string()))?;
         Ok(Some(report.stage_report()))
     }
@@ -173,7 +197,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         // The checkpoint was written after the geostatic stage: its particles are restored,
         // and its release is applied to the walls of the scene.
         if let Some(stage) = self.geostatic.take() {
-            release_walls(&mut self.system, &stage)?;
+            self.system.release_walls(&stage)?;
         }
         let arrays = &mut state.arrays;
         let acceleration = arrays.take("acceleration")?;

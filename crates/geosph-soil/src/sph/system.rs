@@ -8,9 +8,10 @@ use geosph_neighbours::SearchError;
 use geosph_sph::{ArtificialMonaghan1992, PairLists, SphSetup};
 use rayon::prelude::*;
 
-use crate::constitutive::{Constitutive, SoilModel};
+use crate::constitutive::Constitutive;
 use crate::invariants::mean_pressure;
 use crate::kinematics::{spin, strain_rate};
+use crate::model::SoilModel;
 use crate::sph::config::{SoilWallConfig, WallSlip, WallStress};
 use crate::sph::terms::{ArtificialStressGray2001, block};
 use crate::sph::walls::{dummy_velocity, gravity_extrapolation};

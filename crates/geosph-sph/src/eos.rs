@@ -1,4 +1,5 @@
-//! Equations of state of weakly compressible SPH.
+//! Equations of state of weakly compressible SPH, also the initial density ρ(p) of a liquid
+//! that starts under pressure (hydrostatic, or an initial pressure field).
 
 use geosph_core::Real;
 use serde::{Deserialize, Serialize};

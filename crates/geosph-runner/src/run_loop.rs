@@ -1,0 +1,548 @@
+//! The run of one scene in D dimensions: [`RunLoop`], from the built solver (or a restart) to
+//! the [`Summary`].
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use geosph_core::{Particles, Real};
+use geosph_fluid::{IncompressibleMethod, build_incompressible, build_wcsph};
+use geosph_scene::{Scene, SolverSpec};
+use geosph_sph::{Solver, SphSetup, StepReport};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::checkpoint::{
+    self, Checkpoint, CheckpointClock, CheckpointError, ParticleState, Progress,
+};
+use crate::error::RunError;
+use crate::escape::{Escapes, Removal};
+use crate::health::report::{BlowUpFiles, BlowUpReport};
+use crate::health::{self, Diagnosis, LimitInputs, Limits};
+use crate::observer::Observer;
+use crate::options::RunOptions;
+use crate::output::RunOutput;
+use crate::probes::PressureProbes;
+use crate::summary::Summary;
+
+/// One run in progress: the particles, the solver, the output and where the time loop stands.
+///
+/// [`RunLoop::start`] builds the solver from the scene and either restores a checkpoint or
+/// runs the solver's stage before t = 0 and writes the t = 0 sample and frame;
+/// [`RunLoop::run`] then takes [`RunLoop::step`] until the end time and returns
+/// [`RunLoop::finish`]. A step samples, writes frames and checkpoints at their times and ends
+/// the run on a blow-up ([`RunLoop::blow_up`]) or an interrupt.
+pub(crate) struct RunLoop<'a, const D: usize> {
+    scene: &'a Scene,
+    options: &'a RunOptions,
+    observer: &'a mut dyn Observer<D>,
+    solver: Box<dyn Solver<D>>,
+    fluid: Particles<D>,
+    /// The state before the step being taken, refreshed in place every step: allocated once.
+    last_good: Particles<D>,
+    probes: PressureProbes<D>,
+    output: Option<RunOutput>,
+    state: Progress,
+    limits: Limits<D>,
+    escapes: Escapes,
+    /// The `diagnostics.csv` row being sampled, reused.
+    row: Vec<Real>,
+    bar: ProgressBar,
+    next_output: Real,
+    next_sample: Real,
+    checkpoints: CheckpointClock,
+    checkpoint_path: Option<PathBuf>,
+    wall_particles: usize,
+    first_step: usize,
+    started: Instant,
+    last_draw: Instant,
+    /// Times within this tolerance of an event count as reaching it.
+    tolerance: Real,
+}
+
+impl<'a, const D: usize> RunLoop<'a, D> {
+    /// Builds the scene's particles and solver; restores `options.restart` if given, else runs
+    /// the solver's stage before t = 0; opens the output and writes the t = 0 sample and frame
+    /// of a new run.
+    pub(crate) fn start(
+        scene: &'a Scene,
+        options: &'a RunOptions,
+        observer: &'a mut dyn Observer<D>,
+    ) -> Result<Self, RunError> {
+        let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
+        let probes = PressureProbes::<D>::new(
+            &scene.output.probes,
+            solver_inputs.kernel,
+            solver_inputs.smoothing_length,
+        );
+        let wall_particles = solver_inputs.walls.len();
+        let limit_inputs = LimitInputs::of(&solver_inputs);
+        let mut solver = build_solver(scene, solver_inputs, &mut fluid)?;
+        let restart = match &options.restart {
+            Some(path) => Some(restore(path, scene, &mut fluid, solver.as_mut(), observer)?),
+            None => None,
+        };
+        // The solver's stage before t = 0 (the soil's geostatic stage), on a new run only: a
+        // checkpoint holds the state after it.
+        let stage = match &restart {
+            Some(_) => None,
+            None => solver
+                .initial_stage(&mut fluid)
+                .map_err(|source| RunError::Solver {
+                    time: 0.0,
+                    step: 0,
+                    source,
+                })?,
+        };
+        let output = open_output(scene, options, &*observer, &probes, restart.as_ref())?;
+        let bar = progress_bar(options, scene.end_time);
+        let started = Instant::now();
+        let state = restart.unwrap_or_default();
+        let first_step = state.steps as usize;
+        let limits = Limits::new(limit_inputs, &fluid, solver.as_ref());
+        let mut run = Self {
+            scene,
+            options,
+            observer,
+            solver,
+            last_good: fluid.clone(),
+            fluid,
+            probes,
+            output,
+            checkpoints: CheckpointClock::new(options.checkpoint_every, state.time),
+            state,
+            limits,
+            escapes: Escapes::new(scene.health.max_escaped_fraction),
+            row: Vec::new(),
+            bar,
+            next_output: 0.0,
+            next_sample: 0.0,
+            checkpoint_path: options
+                .out_dir
+                .as_ref()
+                .map(|dir| dir.join(checkpoint::FILE_NAME)),
+            wall_particles,
+            first_step,
+            started,
+            last_draw: Instant::now(),
+            tolerance: 1e-9 * scene.end_time,
+        };
+        if first_step == 0 {
+            run.write_start(stage)?;
+        }
+        // Event times as multiples of the intervals, so they do not accumulate round-off.
+        let output = &run.scene.output;
+        run.next_output = run.state.outputs as Real * output.interval;
+        run.next_sample = run.state.samples as Real * output.sample_interval;
+        Ok(run)
+    }
+
+    /// Steps to the end time and reports.
+    pub(crate) fn run(mut self) -> Result<Summary, RunError> {
+        while self.state.time < self.scene.end_time - self.tolerance {
+            self.step()?;
+        }
+        self.finish()
+    }
+
+    /// The t = 0 sample and frame of a new run, with the report of the solver's stage.
+    fn write_start(&mut self, stage: Option<geosph_sph::StageReport>) -> Result<(), RunError> {
+        let mut report = StepReport::default();
+        for &rho in &self.fluid.density {
+            let error = self.solver.density_error(rho);
+            report.density_error_mean += error / self.fluid.len().max(1) as Real;
+            report.density_error_max = report.density_error_max.max(error);
+        }
+        self.sample(0.0, 0, &report)?;
+        if let Some(output) = &mut self.output {
+            output.write_frame(0.0, &self.fluid, self.solver.as_ref())?;
+        }
+        self.state = Progress {
+            outputs: 1,
+            samples: 1,
+            rows: 1,
+            frames: self.output.as_ref().map_or(0, |o| o.frames() as u64),
+            stage,
+            ..Progress::default()
+        };
+        Ok(())
+    }
+
+    /// One step up to at most the next event: the step, particles that left the domain, the
+    /// health check, then the sample, frame, checkpoint and interrupt due at its end.
+    pub(crate) fn step(&mut self) -> Result<(), RunError> {
+        let time = self.state.time;
+        let next_event = self
+            .next_output
+            .min(self.next_sample)
+            .min(self.scene.end_time);
+        self.last_good.clone_from(&self.fluid);
+        let report = self.advance(time, next_event - time)?;
+        let last_good_time = time;
+        let time = time + report.dt;
+        self.state.time = time;
+        self.state.steps += 1;
+        let steps = self.state.steps as usize;
+        let escape = self
+            .escapes
+            .after_step(
+                &mut self.fluid,
+                self.solver.as_mut(),
+                &mut self.limits,
+                &mut self.state,
+                time,
+            )
+            .map_err(|source| RunError::Solver {
+                time,
+                step: steps,
+                source,
+            })?;
+        let diagnosis = match escape {
+            Removal::TooMany(diagnosis) => Some(diagnosis),
+            _ => health::check(&report, &self.fluid, self.solver.as_ref(), &self.limits),
+        };
+        if let Some(diagnosis) = diagnosis {
+            return Err(self.blow_up(diagnosis, steps, (time, last_good_time)));
+        }
+        let state = &mut self.state;
+        state.max_density_error = state.max_density_error.max(report.density_error_max);
+        state.density_error_sum += report.density_error_mean;
+        state.iterations += report.iterations as u64;
+        state.divergence_iterations += report.divergence_iterations as u64;
+        if time >= self.next_sample - self.tolerance {
+            self.sample(time, steps, &report)?;
+            self.state.samples += 1;
+            self.state.rows += 1;
+            self.next_sample = self.state.samples as Real * self.scene.output.sample_interval;
+        }
+        if time >= self.next_output - self.tolerance {
+            if let Some(output) = &mut self.output {
+                output.write_frame(time, &self.fluid, self.solver.as_ref())?;
+                self.state.frames = output.frames() as u64;
+            }
+            self.state.outputs += 1;
+            self.next_output = self.state.outputs as Real * self.scene.output.interval;
+        }
+        self.checkpoint_or_interrupt(time, steps)?;
+        self.draw_progress(time, steps);
+        Ok(())
+    }
+
+    /// The solver's step from `time` of at most `max_dt`; a step that moved particles out of
+    /// the domain is taken again without them, one that failed otherwise ends the run.
+    fn advance(&mut self, time: Real, max_dt: Real) -> Result<StepReport, RunError> {
+        loop {
+            let source = match self.solver.step(&mut self.fluid, time, max_dt) {
+                Ok(report) => return Ok(report),
+                Err(source) => source,
+            };
+            let step = self.state.steps as usize + 1;
+            let removal = self
+                .escapes
+                .during_step(
+                    &source,
+                    &mut self.fluid,
+                    &self.last_good,
+                    self.solver.as_mut(),
+                    &mut self.limits,
+                    &mut self.state,
+                    time,
+                )
+                .map_err(|source| RunError::Solver { time, step, source })?;
+            let diagnosis = match removal {
+                Removal::Removed => {
+                    self.last_good.clone_from(&self.fluid);
+                    continue;
+                }
+                Removal::TooMany(diagnosis) => diagnosis,
+                Removal::Nothing => match health::escaped(&source, &self.fluid, &self.limits) {
+                    Some(diagnosis) => diagnosis,
+                    None => {
+                        let step = self.state.steps as usize;
+                        return Err(RunError::Solver { time, step, source });
+                    }
+                },
+            };
+            return Err(self.blow_up(diagnosis, step, (time, time)));
+        }
+    }
+
+    /// One row of `diagnostics.csv`: the run's own columns, the observer's and the probes'.
+    fn sample(&mut self, time: Real, step: usize, report: &StepReport) -> Result<(), RunError> {
+        let fluid = &self.fluid;
+        self.row.clear();
+        self.row.extend_from_slice(&[
+            time,
+            step as Real,
+            report.dt,
+            kinetic_energy(fluid),
+            report.density_error_mean,
+            report.density_error_max,
+            geosph_sph::max_speed(&fluid.velocity),
+            report.iterations as Real,
+            report.divergence_iterations as Real,
+            self.state.escaped as Real,
+        ]);
+        self.observer.sample(time, fluid, &mut self.row);
+        self.probes.sample(fluid, &mut self.row);
+        if let Some(output) = &mut self.output {
+            output.sample(&self.row)?;
+        }
+        Ok(())
+    }
+
+    /// Writes a checkpoint when one is due or the run was interrupted; after an interrupt,
+    /// also the current frame, and ends the run.
+    fn checkpoint_or_interrupt(&mut self, time: Real, steps: usize) -> Result<(), RunError> {
+        let interrupted = self
+            .options
+            .interrupt
+            .as_ref()
+            .is_some_and(|flag| flag.load(Ordering::Relaxed));
+        let finished = time >= self.scene.end_time - self.tolerance;
+        let can_save = self.checkpoint_path.is_some() && self.output.is_some();
+        if can_save && (interrupted || (!finished && self.checkpoints.due(time))) {
+            if let Some(output) = &mut self.output {
+                output.flush()?;
+            }
+            if let Some(path) = &self.checkpoint_path {
+                self.checkpoint().write(path)?;
+            }
+        }
+        if !interrupted {
+            return Ok(());
+        }
+        self.bar.finish_and_clear();
+        let frame = match &self.output {
+            Some(output) => {
+                Some(output.write_snapshot("interrupted.vtu", &self.fluid, self.solver.as_ref())?)
+            }
+            None => None,
+        };
+        Err(RunError::Interrupted {
+            time,
+            step: steps,
+            checkpoint: self.checkpoint_path.clone().filter(|_| frame.is_some()),
+            frame,
+        })
+    }
+
+    /// The complete state of the run now.
+    fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            scene: self.scene.name.clone(),
+            scene_hash: checkpoint::scene_hash(self.scene),
+            dimension: D as u32,
+            progress: self.state.clone(),
+            particles: ParticleState::save(&self.fluid),
+            solver: self.solver.save_state(),
+            observer: self.observer.save_state(),
+        }
+    }
+
+    /// Ends the run on a blow-up found at step `step`: with an output folder, saves the
+    /// state before the failed step (at `last_good_time`), the failed state (at `time`) and
+    /// the report, and returns the error that says where they are.
+    fn blow_up(
+        &mut self,
+        diagnosis: Diagnosis,
+        step: usize,
+        (time, last_good_time): (Real, Real),
+    ) -> RunError {
+        self.bar.finish_and_clear();
+        let files = match &mut self.output {
+            Some(output) => {
+                // A failed flush has already cut the CSV back to its last complete row; the
+                // blow-up is what to report.
+                let _ = output.flush();
+                let solver = self.solver.as_ref();
+                BlowUpReport {
+                    scene: &self.scene.name,
+                    solver,
+                    diagnosis: &diagnosis,
+                    step,
+                    time,
+                    failed: &self.fluid,
+                    last_good: (&self.last_good, last_good_time),
+                    limits: &self.limits,
+                    frames: (health::report::LAST_GOOD_FILE, health::report::FAILED_FILE),
+                }
+                .save(output)
+            }
+            None => BlowUpFiles::NoOutput,
+        };
+        RunError::BlowUp {
+            time,
+            step,
+            diagnosis,
+            files: Box::new(files),
+        }
+    }
+
+    /// Moves the progress bar at most four times a second.
+    fn draw_progress(&mut self, time: Real, steps: usize) {
+        if self.last_draw.elapsed() > Duration::from_millis(250) {
+            self.last_draw = Instant::now();
+            self.bar.set_position((time * 1e4) as u64);
+            let rate = (steps - self.first_step) as Real / self.started.elapsed().as_secs_f64();
+            self.bar
+                .set_message(format!("{time:.3} s, {rate:.0} steps/s"));
+        }
+    }
+
+    /// Flushes the output and reports the run.
+    pub(crate) fn finish(mut self) -> Result<Summary, RunError> {
+        self.bar.finish_and_clear();
+        let wall_time = self.started.elapsed().as_secs_f64();
+        let state = &self.state;
+        let steps = state.steps as usize;
+        let frames = match &mut self.output {
+            Some(output) => {
+                output.flush()?;
+                output.frames()
+            }
+            None => 0,
+        };
+        let fluid = &self.fluid;
+        let per_step = |total: u64| total as Real / steps.max(1) as Real;
+        Ok(Summary {
+            scene: self.scene.name.clone(),
+            solver: self.solver.name(),
+            material: self.solver.material(),
+            iterative: self.solver.iterates(),
+            dimension: D,
+            fluid_particles: fluid.len(),
+            wall_particles: self.wall_particles,
+            steps,
+            simulated_time: state.time,
+            wall_time,
+            particle_steps_per_second: (fluid.len() * (steps - self.first_step)) as Real
+                / wall_time,
+            max_density_error: state.max_density_error,
+            mean_density_error: state.density_error_sum / steps.max(1) as Real,
+            mean_iterations: per_step(state.iterations),
+            mean_divergence_iterations: per_step(state.divergence_iterations),
+            bytes_per_particle: fluid.bytes_per_particle(),
+            frames,
+            escaped: state.escaped as usize,
+            escaped_mass_fraction: state.escaped_mass
+                / (fluid.mass.iter().sum::<Real>() + state.escaped_mass),
+            first_escape: state.first_escape,
+            stage: state.stage.clone(),
+        })
+    }
+}
+
+/// The solver the scene declares, and nothing it does not.
+fn build_solver<const D: usize>(
+    scene: &Scene,
+    inputs: SphSetup<D>,
+    fluid: &mut Particles<D>,
+) -> Result<Box<dyn Solver<D>>, RunError> {
+    let incompressible = |method, config, inputs, fluid: &mut Particles<D>| {
+        build_incompressible(method, config, inputs, fluid)
+    };
+    let built = match &scene.solver {
+        SolverSpec::Wcsph(config) => build_wcsph(config, inputs, fluid),
+        SolverSpec::Pcisph(config) => {
+            incompressible(IncompressibleMethod::Pcisph, config, inputs, fluid)
+        }
+        SolverSpec::Iisph(config) => {
+            incompressible(IncompressibleMethod::Iisph, config, inputs, fluid)
+        }
+        SolverSpec::Dfsph(config) => {
+            incompressible(IncompressibleMethod::Dfsph, config, inputs, fluid)
+        }
+        SolverSpec::Soil(config) => return Ok(geosph_soil::build_soil(config, inputs, fluid)?),
+    };
+    built.map_err(|source| RunError::Solver {
+        time: 0.0,
+        step: 0,
+        source: source.into(),
+    })
+}
+
+/// Restores the particles, the solver and the observer from the checkpoint at `path`.
+fn restore<const D: usize>(
+    path: &Path,
+    scene: &Scene,
+    fluid: &mut Particles<D>,
+    solver: &mut dyn Solver<D>,
+    observer: &mut dyn Observer<D>,
+) -> Result<Progress, RunError> {
+    let saved = Checkpoint::read::<D>(path, scene)?;
+    *fluid = saved
+        .particles
+        .restore(fluid, saved.progress.escaped)
+        .map_err(|error| restart_mismatch(path, error.0))?;
+    solver
+        .restore_state(saved.solver, fluid)
+        .map_err(|error| restart_mismatch(path, error.to_string()))?;
+    observer
+        .restore_state(&saved.observer)
+        .map_err(|reason| restart_mismatch(path, reason))?;
+    Ok(saved.progress)
+}
+
+/// The run's output folder, created, or resumed after `restart`; `None` without one.
+fn open_output<const D: usize>(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &dyn Observer<D>,
+    probes: &PressureProbes<D>,
+    restart: Option<&Progress>,
+) -> Result<Option<RunOutput>, RunError> {
+    let Some(dir) = &options.out_dir else {
+        return Ok(None);
+    };
+    let vtk = options.vtk.unwrap_or(scene.output.vtk);
+    let mut columns = observer.columns();
+    columns.extend(probes.columns().iter().map(String::as_str));
+    Ok(Some(match restart {
+        None => RunOutput::create(dir, &scene.name, vtk, &columns)?,
+        Some(progress) => RunOutput::resume(
+            dir,
+            &scene.name,
+            vtk,
+            &columns,
+            (
+                progress.time,
+                progress.frames as usize,
+                progress.rows as usize,
+            ),
+        )
+        .map_err(RunError::Resume)?,
+    }))
+}
+
+/// A restart file that passed its own checks but does not fit the scene's particles or solver.
+fn restart_mismatch(path: &Path, reason: String) -> RunError {
+    RunError::Checkpoint(CheckpointError::Mismatch {
+        path: path.to_path_buf(),
+        reason,
+    })
+}
+
+fn kinetic_energy<const D: usize>(fluid: &Particles<D>) -> Real {
+    fluid
+        .velocity
+        .iter()
+        .zip(&fluid.mass)
+        .map(|(v, m)| 0.5 * m * v.norm_squared())
+        .sum()
+}
+
+fn progress_bar(options: &RunOptions, end_time: Real) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(
+        Some((end_time * 1e4).ceil() as u64),
+        if options.progress {
+            ProgressDrawTarget::stderr_with_hz(4)
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} t = {msg} [{elapsed_precise}, ETA {eta}]")
+            .expect("a valid template"),
+    );
+    bar
+}

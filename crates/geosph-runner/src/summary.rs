@@ -1,0 +1,108 @@
+//! What a run did: [`Summary`], printed by the apps at the end of a run.
+
+use geosph_core::Real;
+use geosph_sph::StageReport;
+
+/// What a run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Summary {
+    /// Scene name.
+    pub scene: String,
+    /// Solver name.
+    pub solver: &'static str,
+    /// What the particles are ([`geosph_sph::Solver::material`]): "fluid" or "soil".
+    pub material: &'static str,
+    /// Whether the solver iterates a pressure solve ([`geosph_sph::Solver::iterates`]).
+    pub iterative: bool,
+    /// 2 or 3.
+    pub dimension: usize,
+    /// Fluid particles.
+    pub fluid_particles: usize,
+    /// Wall particles.
+    pub wall_particles: usize,
+    /// Time steps taken.
+    pub steps: usize,
+    /// Simulated time reached, s.
+    pub simulated_time: Real,
+    /// Wall-clock time of the stepping loop (output included), s.
+    pub wall_time: Real,
+    /// Fluid particle-steps per wall-clock second.
+    pub particle_steps_per_second: Real,
+    /// Largest relative density error seen at any step.
+    pub max_density_error: Real,
+    /// Mean relative density error over all steps.
+    pub mean_density_error: Real,
+    /// Mean pressure iterations per step (1 for WCSPH).
+    pub mean_iterations: Real,
+    /// Mean divergence-solve iterations per step (DFSPH; 0 otherwise).
+    pub mean_divergence_iterations: Real,
+    /// Bytes per fluid particle held by its fields.
+    pub bytes_per_particle: usize,
+    /// VTU frames written.
+    pub frames: usize,
+    /// Particles that left the domain and were removed from the run (included in neither
+    /// `fluid_particles` nor the frames).
+    pub escaped: usize,
+    /// Their share of the initial fluid mass.
+    pub escaped_mass_fraction: Real,
+    /// Simulated time at which the first of them was removed, s.
+    pub first_escape: Option<Real>,
+    /// The stage the solver ran before t = 0 ([`geosph_sph::Solver::initial_stage`]; the soil's
+    /// geostatic stage), also after a restart from a checkpoint written after it.
+    pub stage: Option<StageReport>,
+}
+
+impl std::fmt::Display for Summary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "scene              {} ({}D, {})",
+            self.scene, self.dimension, self.solver
+        )?;
+        let material = self.material;
+        writeln!(
+            f,
+            "particles          {} {material} + {} wall ({} bytes of fields per {material} particle)",
+            self.fluid_particles, self.wall_particles, self.bytes_per_particle
+        )?;
+        writeln!(
+            f,
+            "steps              {} to t = {:.4} s (mean dt = {:.3e} s)",
+            self.steps,
+            self.simulated_time,
+            self.simulated_time / self.steps.max(1) as Real
+        )?;
+        writeln!(
+            f,
+            "wall time          {:.2} s, {:.3} M particle-steps/s",
+            self.wall_time,
+            self.particle_steps_per_second * 1e-6
+        )?;
+        writeln!(
+            f,
+            "density error      mean {:.3} %, max {:.3} %",
+            100.0 * self.mean_density_error,
+            100.0 * self.max_density_error
+        )?;
+        // The explicit solvers take one pass per step; only the pressure solvers iterate.
+        if self.iterative {
+            writeln!(
+                f,
+                "iterations         {:.1} per step (divergence solve {:.1})",
+                self.mean_iterations, self.mean_divergence_iterations
+            )?;
+        }
+        if let Some(first) = self.first_escape {
+            writeln!(
+                f,
+                "escaped            {} particles ({:.3} % of the mass), first at t = {first:.3} s",
+                self.escaped,
+                100.0 * self.escaped_mass_fraction
+            )?;
+        }
+        if let Some(stage) = &self.stage {
+            write!(f, "\n{stage}")?;
+        }
+        Ok(())
+    }
+}
