@@ -128,6 +128,14 @@ pub trait Solver<const D: usize>: Send {
     /// The reference sound speed c₀ (0 for incompressible solvers).
     fn sound_speed(&self) -> Real;
 
+    /// The stress magnitude ‖σ‖, Pa, that a stable run of this material can reach in a domain
+    /// `height` deep along gravity of magnitude `gravity`; the runner's health check stops a
+    /// run whose stress passes a multiple of it. `None` for materials that carry no stress
+    /// (the default).
+    fn stress_scale(&self, _gravity: Real, _height: Real) -> Option<Real> {
+        None
+    }
+
     /// The density error this solver controls, per particle, as a fraction of ρ₀: |ρ/ρ₀ − 1|
     /// for WCSPH; the compression max(ρ/ρ₀ − 1, 0) for the incompressible solvers, whose
     /// free-surface particles sit below ρ₀ by construction.

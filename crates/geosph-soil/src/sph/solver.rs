@@ -71,6 +71,19 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
     }
 }
 
+/// The stress scale ρ₀ (|g| H + c √(2 |g| H)) of soil in a domain H deep along gravity: the
+/// geostatic stress at depth H plus the stress ρ₀ c v of an elastic impact at the free-fall
+/// speed v = √(2 |g| H) (c the P-wave speed), the deepest column and the longest fall the
+/// domain allows.
+pub fn geostatic_and_impact_stress(
+    rest_density: Real,
+    gravity: Real,
+    height: Real,
+    wave_speed: Real,
+) -> Real {
+    rest_density * (gravity * height + wave_speed * (2.0 * gravity * height).sqrt())
+}
+
 impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
     fn name(&self) -> &'static str {
         "soil-sph"
@@ -155,6 +168,16 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         self.system.wave_speed
     }
 
+    fn stress_scale(&self, gravity: Real, height: Real) -> Option<Real> {
+        let system = &self.system;
+        Some(geostatic_and_impact_stress(
+            system.rest_density,
+            gravity,
+            height,
+            system.wave_speed,
+        ))
+    }
+
     fn density_error(&self, density: Real) -> Real {
         (density / self.system.rest_density - 1.0).max(0.0)
     }
@@ -212,5 +235,19 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         self.system.restore(acceleration, listed)?;
         self.steps = steps;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stress_scale_adds_geostatic_and_impact_stress() {
+        // Bui's bars: ρ₀ = 2650 kg/m³, a 0.5 m high domain, c = 20 m/s.
+        let scale = geostatic_and_impact_stress(2650.0, 9.81, 0.5, 20.0);
+        let geostatic = 2650.0 * 9.81 * 0.5;
+        let impact = 2650.0 * 20.0 * (2.0 * 9.81 * 0.5 as Real).sqrt();
+        assert!((scale - geostatic - impact).abs() < 1e-9 * scale);
     }
 }
