@@ -28,7 +28,7 @@ for dx in "${resolutions[@]}"; do
         args=(--scene "$scene" --solver "$solver" --dx "$dx" --no-vtk --quiet --out "$out/$solver-$target-$dx")
         [ "$target" != "-" ] && args+=(--target-error "$target")
         [ -n "${END_TIME:-}" ] && args+=(--end-time "$END_TIME")
-        log=$(./target/release/dam-break "${args[@]}" 2>&1) || { echo "| $dx | $solver | $target | failed: $(echo "$log" | tail -1) |"; continue; }
+        log=$(./target/release/dam-break "${args[@]}" 2>&1) || { echo "| $dx | $solver | $target | failed: $(echo "$log" | tail -1 | sed "s|$out|<out>|g") |"; continue; }
         python3 - "$dx" "$solver" "$target" <<PY
 import re, sys
 log = """$log"""

@@ -216,23 +216,26 @@ fn write_sets<const D: usize>(
     if let Some(pressure) = &fluid.pressure {
         fluid_frame = fluid_frame.with(Field::scalar("pressure", pressure));
     }
+    // The particles' stress, then what the solver derives from it, then the other soil fields.
     let derived = solver.output_scalars(fluid);
-    if let Some(fields) = &fluid.soil {
+    let soil = fluid.soil.as_ref().map(|fields| {
+        let displacement: Vec<Vector<D>> = fields
+            .displacement
+            .iter()
+            .map(|u| Vector::<D>::from_fn(|k, _| u[k]))
+            .collect();
+        (fields, displacement)
+    });
+    if let Some((fields, _)) = &soil {
         fluid_frame = fluid_frame.with(Field::tensor("stress", &fields.stress));
     }
     for (name, values) in &derived {
         fluid_frame = fluid_frame.with(Field::scalar(name, values));
     }
-    let displacement: Vec<Vector<D>>;
-    if let Some(fields) = &fluid.soil {
-        displacement = fields
-            .displacement
-            .iter()
-            .map(|u| Vector::<D>::from_fn(|k, _| u[k]))
-            .collect();
+    if let Some((fields, displacement)) = &soil {
         fluid_frame = fluid_frame
             .with(Field::scalar("plastic_strain", &fields.plastic_strain))
-            .with(Field::vector("displacement", &displacement));
+            .with(Field::vector("displacement", displacement));
     }
     let wall_frame = Frame::new(&walls.position)
         .with(Field::vector("velocity", &walls.velocity))

@@ -1,4 +1,5 @@
-//! Soil walls: the velocity and the stress that dummy particles show to soil particles.
+//! Soil walls: the velocity and the stress that dummy particles show to soil particles, and
+//! the Coulomb friction of a wall on the soil sliding along it.
 
 use geosph_core::{Real, Tensor3, Vector};
 
@@ -62,6 +63,43 @@ pub fn gravity_extrapolation<const D: usize>(
     increment
 }
 
+/// The Coulomb friction acceleration of a soil particle next to a fixed wall with friction
+/// coefficient μ = tan δ: with n the (kernel-averaged) wall normal, the wall's normal push
+/// a_n = a_wall·n, and the tangential velocity the step would reach without friction,
+/// v_t* = (v + Δt a) − ((v + Δt a)·n) n, the friction is
+///
+/// a_f = −min(μ a_n, |v_t*|/Δt) v_t*/|v_t*|  (a_n > 0; else 0),
+///
+/// i.e. kinetic friction μ a_n opposing the sliding, or sticking (v_t = 0) when μ a_n could
+/// stop the particle within the step (static friction).
+#[inline]
+pub(crate) fn coulomb_friction<const D: usize>(
+    wall_normal: &Vector<D>,
+    a_wall: &Vector<D>,
+    velocity: &Vector<D>,
+    acceleration: &Vector<D>,
+    tan_delta: Real,
+    dt: Real,
+) -> Vector<D> {
+    let length = wall_normal.norm();
+    if length == 0.0 {
+        return Vector::zeros();
+    }
+    let n = wall_normal / length;
+    let push = a_wall.dot(&n);
+    if push <= 0.0 {
+        return Vector::zeros();
+    }
+    let v_star = velocity + acceleration * dt;
+    let tangential = v_star - n * v_star.dot(&n);
+    let speed = tangential.norm();
+    if speed == 0.0 {
+        return Vector::zeros();
+    }
+    let magnitude = (tan_delta * push).min(speed / dt);
+    -tangential * (magnitude / speed)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,5 +130,24 @@ mod tests {
         assert_relative_eq!(increment[(1, 1)], -0.3 * 2000.0 * 10.0, epsilon = 1e-9);
         assert_eq!(increment[(0, 0)], 0.0);
         assert_eq!(increment[(0, 1)], 0.0);
+    }
+
+    #[test]
+    fn friction_slows_sliding_and_sticks_slow_particles() {
+        let n = Vector::<2>::new(0.0, 2.0);
+        let push = Vector::<2>::new(0.0, 10.0);
+        let fast = Vector::<2>::new(1.0, 0.0);
+        let a = Vector::<2>::zeros();
+        let f = coulomb_friction(&n, &push, &fast, &a, 0.5, 1e-3);
+        assert_relative_eq!(f[0], -5.0, epsilon = 1e-12);
+        assert_eq!(f[1], 0.0);
+        let slow = Vector::<2>::new(1e-3, 0.0);
+        let f = coulomb_friction(&n, &push, &slow, &a, 0.5, 1e-3);
+        assert_relative_eq!(slow[0] + f[0] * 1e-3, 0.0, epsilon = 1e-15);
+        let pull = -push;
+        assert_eq!(
+            coulomb_friction(&n, &pull, &fast, &a, 0.5, 1e-3),
+            Vector::<2>::zeros()
+        );
     }
 }
