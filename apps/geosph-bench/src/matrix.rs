@@ -39,7 +39,7 @@ pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
         let dxs = resolutions(case, quick);
         let solvers: &[&'static str] = match (case, quick) {
             _ if case.is_soil() => &["soil"],
-            // The pressure solvers blow up on the vortex (docs/benchmarks.md).
+            // The pressure solvers are far less accurate on the vortex (docs/benchmarks.md).
             (Case::TaylorGreen, true) => &["wcsph"],
             (_, true) => &["wcsph", "dfsph"],
             (_, false) => &FLUID_SOLVERS,

@@ -8,7 +8,8 @@ use geosph_neighbours::SearchError;
 use geosph_sph::config_error::{ConfigError, in_range, positive};
 use geosph_sph::lattice::{lattice_gradient_factor, lattice_kernel_sum};
 use geosph_sph::{
-    ArtificialMonaghan1992, LaminarMorris1997, ParticleStart, Solver, SphSetup, ViscousTerm,
+    ArtificialMonaghan1992, LaminarMorris1997, ParticleShifting, ParticleStart, Solver, SphSetup,
+    ViscousTerm,
 };
 use geosph_time::{Integrator, Scheme};
 use serde::{Deserialize, Serialize};
@@ -140,6 +141,8 @@ pub struct WcsphConfig {
     pub viscosity: ViscosityConfig,
     /// XSPH factor ε (default 0: off).
     pub xsph: Real,
+    /// δ⁺-SPH particle shifting (default `None`: off; `Some(())` for Sun et al.'s settings).
+    pub shifting: Option<ParticleShifting>,
     /// Steps between Shepard density re-initialisations (default 0: never).
     pub shepard_every: usize,
     /// Clamp negative pressure to zero (default false).
@@ -174,6 +177,7 @@ impl Default for WcsphConfig {
                 beta: 0.0,
             },
             xsph: 0.0,
+            shifting: None,
             shepard_every: 0,
             clamp_negative_pressure: false,
             background_pressure: 0.0,
@@ -204,6 +208,9 @@ impl WcsphConfig {
         }
         self.viscosity.validate()?;
         in_range("xsph", self.xsph, 0.0, 1.0)?;
+        if let Some(shifting) = &self.shifting {
+            shifting.validate("shifting")?;
+        }
         if !(self.background_pressure.is_finite() && self.background_pressure >= 0.0) {
             return Err(ConfigError::new(
                 "background_pressure",
@@ -273,6 +280,11 @@ pub struct IncompressibleConfig {
     pub target_divergence_error: Real,
     /// Steps between Z-order sorts (default 100).
     pub reorder_every: usize,
+    /// δ⁺-SPH particle shifting of the drift (default `None`: off).
+    pub shifting: Option<ParticleShifting>,
+    /// Let pressures go negative (default false): for flows without a free surface only
+    /// (periodic or confined, e.g. a vortex), where suction is physical.
+    pub negative_pressure: bool,
 }
 
 impl Default for IncompressibleConfig {
@@ -294,6 +306,8 @@ impl Default for IncompressibleConfig {
             divergence_solve: true,
             target_divergence_error: 1e-3,
             reorder_every: 100,
+            shifting: None,
+            negative_pressure: settings.negative_pressure,
         }
     }
 }
@@ -330,6 +344,9 @@ impl IncompressibleConfig {
             positive("max_time_step", dt)?;
         }
         in_range("relaxation", self.relaxation, 0.05, 1.0)?;
+        if let Some(shifting) = &self.shifting {
+            shifting.validate("shifting")?;
+        }
         self.viscosity.validate()
     }
 
@@ -411,6 +428,8 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
             config.neighbour_skin,
         )?;
         system.xsph = config.xsph;
+        system.shifting = config.shifting;
+        system.spacing = setup.spacing;
         system.clamp_negative_pressure = config.clamp_negative_pressure;
         system.density_mode = match config.density {
             DensityConfig::Continuity => DensityMode::Continuity,
@@ -491,7 +510,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
         let viscosity = config
             .viscosity
             .term(kernel.smoothing_length(), setup.sound_speed);
-        let system = PressureSystem::new(
+        let mut system = PressureSystem::new(
             kernel,
             setup.domain,
             setup.rest_density,
@@ -500,6 +519,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
             setup.walls,
             config.wall_pressure,
         )?;
+        system.shifting = config.shifting;
         let settings = PressureSolveSettings {
             target_density_error: config.target_density_error,
             max_compression: config.max_compression,
@@ -507,6 +527,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
             max_iterations: config.max_iterations,
             cfl: config.cfl,
             max_time_step: config.max_time_step,
+            negative_pressure: config.negative_pressure,
         };
         let mut solver = Incompressible::new(system, method, settings, setup.spacing, self.fluid)?;
         solver.system.lists.reorder_every = config.reorder_every;

@@ -5,7 +5,10 @@ use geosph_boundary::{DummyAdami2012, WallParticles};
 use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
-use geosph_sph::{Pair, PairLists, Viscosity, ViscousTerm, ViscousVisitor};
+use geosph_sph::{
+    Pair, PairLists, ParticleShifting, ShiftingInput, Viscosity, ViscousTerm, ViscousVisitor,
+    max_speed,
+};
 use geosph_time::{ExplicitSystem, Rates};
 use rayon::prelude::*;
 
@@ -49,6 +52,12 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     pub gravity: Vector<D>,
     /// XSPH factor ε (0: off) of dx/dt = v + ε Σ_j m_j/ρ̄_ij (v_j − v_i) W_ij (Monaghan 1989).
     pub xsph: Real,
+    /// Particle shifting (off: `None`), added to the drift like XSPH.
+    pub shifting: Option<ParticleShifting>,
+    /// Lattice spacing Δx (the reference distance of shifting's anti-clustering term).
+    pub spacing: Real,
+    /// The step Δt being taken (set by the solver before each step; shifting scales with it).
+    pub time_step: Real,
     /// Continuity or summation.
     pub density_mode: DensityMode,
     /// Replace negative pressures by zero (suppresses tensile clumping at free surfaces at the
@@ -64,6 +73,8 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     volume: Vec<Real>,
     /// p_i / ρ_i² of every particle, computed once per evaluation.
     pressure_term: Vec<Real>,
+    /// Shifting velocity of every particle, when XSPH is on too.
+    shift: Vec<Vector<D>>,
 }
 
 impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
@@ -96,6 +107,9 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
             diffusion,
             gravity,
             xsph: 0.0,
+            shifting: None,
+            spacing: 0.0,
+            time_step: 0.0,
             density_mode: DensityMode::Continuity,
             clamp_negative_pressure: false,
             walls,
@@ -103,6 +117,7 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
             shepard_due: false,
             volume: Vec::new(),
             pressure_term: Vec::new(),
+            shift: Vec::new(),
         })
     }
 
@@ -252,6 +267,27 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
         });
         if self.xsph > 0.0 {
             self.xsph_correction(fluid, &mut rates.position_correction);
+        }
+        if let Some(shifting) = &self.shifting {
+            let input = ShiftingInput {
+                position: &fluid.position,
+                volume: &self.volume,
+                wall_position: &self.walls.position,
+                wall_volume: &self.walls.volume,
+                max_speed: max_speed(&fluid.velocity),
+                time_step: self.time_step,
+            };
+            if self.xsph > 0.0 {
+                self.shift.resize(fluid.len(), Vector::zeros());
+                let shift = &mut self.shift;
+                shifting.velocity(&self.kernel, self.spacing, &self.lists, input, shift);
+                (rates.position_correction.par_iter_mut(), shift.par_iter())
+                    .into_par_iter()
+                    .for_each(|(correction, shift)| *correction += shift);
+            } else {
+                let correction = &mut rates.position_correction;
+                shifting.velocity(&self.kernel, self.spacing, &self.lists, input, correction);
+            }
         }
     }
 

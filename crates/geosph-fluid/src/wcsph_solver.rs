@@ -71,6 +71,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             kinematic_viscosity: self.system.viscosity.kinematic_viscosity(),
         };
         let dt = event_step(time_step(&limits), max_dt);
+        self.system.time_step = dt;
         self.integrator.step(&mut self.system, fluid, time, dt)?;
         self.steps += 1;
         let (mean, max) = density_errors(&fluid.density, self.system.eos.rest_density);

@@ -108,6 +108,7 @@ fn converged_iisph_pressure_equals_a_direct_solve() {
         pressure_term: vec![0.0; n],
         divergence: vec![0.0; n],
         residual: vec![0.0; n],
+        ..Scratch::default()
     };
 
     // v* = v + Δt a* (gravity and the wall head), and the density it predicts.

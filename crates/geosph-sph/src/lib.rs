@@ -18,6 +18,7 @@
 //! - [`viscosity`]: the viscous pair terms (artificial, laminar) both materials use.
 //! - [`density_error`]: the density-error reductions, in a fixed order.
 //! - [`lattice`]: kernel sums and gradient calibration on the initial lattice.
+//! - [`shifting`]: δ⁺-SPH particle shifting with free-surface detection.
 #![warn(missing_docs)]
 
 pub mod config_error;
@@ -27,6 +28,7 @@ pub mod lattice;
 pub mod lists;
 pub mod pair_arrays;
 pub mod setup;
+pub mod shifting;
 pub mod solver;
 pub mod state;
 pub mod viscosity;
@@ -36,6 +38,7 @@ pub use density_error::{compression, density_errors};
 pub use eos::{EosKind, EquationOfState};
 pub use lists::{Neighbour, PairLists};
 pub use setup::{ParticleStart, SphSetup};
+pub use shifting::{ParticleShifting, ShiftingInput};
 pub use solver::{Solver, SolverError, StageReport, StepReport, event_step, max_speed};
 pub use state::{SolverState, StateArrays, StateError};
 pub use viscosity::{

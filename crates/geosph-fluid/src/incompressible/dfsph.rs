@@ -92,10 +92,16 @@ impl Dfsph {
         increment: &mut [Real],
     ) -> SolveReport {
         let rho0 = system.rest_density;
-        // The clamped residual: predicted compression, or compression rate.
+        // The residual, clamped unless pressures may be negative: predicted compression, or
+        // compression rate.
+        let floor = if settings.negative_pressure {
+            Real::NEG_INFINITY
+        } else {
+            0.0
+        };
         let residual_of = |rho_i: Real, div: Real| match kind {
-            Residual::Density => (rho_i + dt * div - rho0).max(0.0),
-            Residual::Divergence => div.max(0.0),
+            Residual::Density => (rho_i + dt * div - rho0).max(floor),
+            Residual::Divergence => div.max(floor),
         };
         let diagonal = system.diagonal();
         let walls_velocity = &system.walls.velocity;
@@ -141,7 +147,7 @@ impl Dfsph {
                 .for_each(|(i, (p, term))| {
                     let div = system.divergence_at(i, mass, velocity, walls_velocity);
                     let rho_i = density[i];
-                    *p = if diagonal[i] > 0.0 && residual_of(rho_i, div) > 0.0 {
+                    *p = if diagonal[i] > 0.0 && residual_of(rho_i, div) != 0.0 {
                         *p * WARM_START
                     } else {
                         0.0
@@ -155,6 +161,14 @@ impl Dfsph {
         let (scale, error_scale, max_residual) = match kind {
             Residual::Density => (1.0 / (dt * dt), 1.0 / rho0, settings.max_compression * rho0),
             Residual::Divergence => (1.0 / dt, dt / rho0, Real::INFINITY),
+        };
+        // A clamped solve only raises pressures and cannot overshoot into oscillation; a
+        // two-sided one is a Jacobi iteration whose stiffest (checkerboard) mode grows unless
+        // relaxed to the system's limit.
+        let scale = if settings.negative_pressure {
+            scale * system.relaxation_limit().min(1.0)
+        } else {
+            scale
         };
         let mut report = SolveReport::default();
         while report.iterations < settings.max_iterations {
@@ -179,7 +193,7 @@ impl Dfsph {
                         *term = *dp / (rho_i * rho_i);
                     });
             }
-            let (mean, max) = super::mean_and_max_positive(residual, diagonal);
+            let (mean, max) = super::residual_error(residual, diagonal, settings.negative_pressure);
             report.error = mean * error_scale;
             if report.iterations >= settings.min_iterations
                 && report.error <= target

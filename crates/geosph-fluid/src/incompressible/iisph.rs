@@ -120,10 +120,16 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>>(
         pressure_term,
         divergence,
         residual,
+        ..
     } = scratch;
 
     let walls = &system.walls;
     let (mass, density) = (&*mass, &*density);
+    let floor = if settings.negative_pressure {
+        Real::NEG_INFINITY
+    } else {
+        0.0
+    };
     // The density predicted from v* alone, minus ρ₀: residual_i = ρ*_i − ρ₀; and p/ρ² of the
     // starting pressure.
     {
@@ -156,11 +162,14 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>>(
                 // ρ̃_i − ρ₀ with the current pressures; kept for the error sum.
                 *predicted = residual[i]
                     + dt * dt * system.divergence_at(i, mass, acceleration, &walls.acceleration);
-                *p = (*p + step(i, rho_i) * *predicted).max(0.0);
+                *p = (*p + step(i, rho_i) * *predicted).max(floor);
                 *term = *p / (rho_i * rho_i);
             });
         report.iterations += 1;
         let (mean, max) = match stop {
+            _ if settings.negative_pressure => {
+                super::mean_and_max_absolute(divergence, system.diagonal())
+            }
             StopOn::Compression => super::mean_and_max_positive(divergence, system.diagonal()),
             StopOn::Complementarity => {
                 super::complementarity_error(divergence, pressure, system.diagonal())

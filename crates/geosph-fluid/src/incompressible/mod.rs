@@ -12,7 +12,10 @@
 //!
 //! They differ in step 3 only: how the pressure is updated from the density residual
 //! ([`Pcisph`], [`Iisph`], [`Dfsph`]). Pressures are clamped at zero, so free surfaces need no
-//! detection. The derivation of the shared system is in `docs/fluid.md`.
+//! detection, unless [`PressureSolveSettings::negative_pressure`] lets a flow without a free
+//! surface (periodic, confined) carry suction. With [`ParticleShifting`](geosph_sph::ParticleShifting) the drift of step 4 is
+//! x ← x + Δt (v + δv_shift), the shift computed from the lists of the step's start. The
+//! derivation of the shared system is in `docs/fluid.md`.
 
 mod dfsph;
 mod iisph;
@@ -32,8 +35,8 @@ use geosph_sph::lattice::{
     lattice_gradient_factor, lattice_gradient_squares, lattice_jacobi_bound, lattice_kernel_sum,
 };
 use geosph_sph::{
-    Solver, SolverError, SolverState, StateArrays, StateError, StepReport, compression, event_step,
-    max_speed,
+    ShiftingInput, Solver, SolverError, SolverState, StateArrays, StateError, StepReport,
+    compression, event_step, max_speed,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -59,6 +62,10 @@ pub struct PressureSolveSettings {
     /// Upper bound on the step in s (default 0.005 s, the default of SPlisHSPlasH; see
     /// `docs/incompressible.md` for why a bound is needed).
     pub max_time_step: Option<Real>,
+    /// Let pressures go negative (default false): the solves then drive the density error to
+    /// zero from both sides. Only for flows without a free surface, where suction is physical
+    /// (a vortex, a periodic channel); at a free surface it would pull spray back.
+    pub negative_pressure: bool,
 }
 
 impl Default for PressureSolveSettings {
@@ -70,6 +77,7 @@ impl Default for PressureSolveSettings {
             max_iterations: 100,
             cfl: 0.4,
             max_time_step: Some(0.005),
+            negative_pressure: false,
         }
     }
 }
@@ -95,6 +103,10 @@ pub struct Scratch<const D: usize> {
     pub divergence: Vec<Real>,
     /// Per-particle residual or source.
     pub residual: Vec<Real>,
+    /// Shifting velocity, or particle volume while it is computed.
+    pub shift: Vec<Vector<D>>,
+    /// Particle volumes m/ρ (for shifting).
+    pub volume: Vec<Real>,
 }
 
 impl<const D: usize> Scratch<D> {
@@ -103,6 +115,45 @@ impl<const D: usize> Scratch<D> {
         self.pressure_term.resize(n, 0.0);
         self.divergence.resize(n, 0.0);
         self.residual.resize(n, 0.0);
+    }
+
+    /// The shifting velocity δv of every particle into [`Scratch::shift`] (zero without
+    /// shifting), from the lists of the current positions.
+    fn shifting_velocity<K: Kernel<D>>(
+        &mut self,
+        system: &PressureSystem<D, K>,
+        fluid: &Particles<D>,
+        spacing: Real,
+        dt: Real,
+    ) {
+        let n = fluid.len();
+        self.shift.resize(n, Vector::zeros());
+        let Some(shifting) = &system.shifting else {
+            return;
+        };
+        self.volume.resize(n, 0.0);
+        (
+            self.volume.par_iter_mut(),
+            fluid.mass.par_iter(),
+            fluid.density.par_iter(),
+        )
+            .into_par_iter()
+            .for_each(|(v, m, rho)| *v = m / rho);
+        let input = ShiftingInput {
+            position: &fluid.position,
+            volume: &self.volume,
+            wall_position: &system.walls.position,
+            wall_volume: &system.walls.volume,
+            max_speed: max_speed(&fluid.velocity),
+            time_step: dt,
+        };
+        shifting.velocity(
+            &system.kernel,
+            spacing,
+            &system.lists,
+            input,
+            &mut self.shift,
+        );
     }
 }
 
@@ -256,11 +307,23 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         let density_solve =
             self.method
                 .correct_density(&self.system, fluid, dt, &self.settings, &mut self.scratch);
-        fluid
-            .position
-            .par_iter_mut()
-            .zip(fluid.velocity.par_iter())
-            .for_each(|(x, v)| *x += v * dt);
+        if self.system.shifting.is_some() {
+            self.scratch
+                .shifting_velocity(&self.system, fluid, self.spacing, dt);
+            (
+                fluid.position.par_iter_mut(),
+                fluid.velocity.par_iter(),
+                self.scratch.shift.par_iter(),
+            )
+                .into_par_iter()
+                .for_each(|(x, v, shift)| *x += (v + shift) * dt);
+        } else {
+            fluid
+                .position
+                .par_iter_mut()
+                .zip(fluid.velocity.par_iter())
+                .for_each(|(x, v)| *x += v * dt);
+        }
         // Largest |Δv|/Δt of this step, for the next step's limit (ordered, thread-independent).
         self.max_acceleration = fluid
             .velocity
@@ -349,6 +412,33 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
 /// of a particle with a non-zero `diagonal` (one that can take pressure; 0 if none).
 pub(crate) fn mean_and_max_positive(values: &[Real], diagonal: &[Real]) -> (Real, Real) {
     mean_error_and_max(values, diagonal, |_, value| value.max(0.0))
+}
+
+/// Mean of |`values`|, summed in index order, and the largest |entry| of a particle with a
+/// non-zero `diagonal`: the error of a solve whose pressures may be negative.
+pub(crate) fn mean_and_max_absolute(values: &[Real], diagonal: &[Real]) -> (Real, Real) {
+    let (sum, max) =
+        values
+            .iter()
+            .zip(diagonal)
+            .fold((0.0, 0.0), |(sum, max): (Real, Real), (&r, &d)| {
+                let max = if d > 0.0 { max.max(r.abs()) } else { max };
+                (sum + r.abs(), max)
+            });
+    (sum / values.len().max(1) as Real, max)
+}
+
+/// [`mean_and_max_absolute`] when `negative_pressure`, else [`mean_and_max_positive`].
+pub(crate) fn residual_error(
+    values: &[Real],
+    diagonal: &[Real],
+    negative_pressure: bool,
+) -> (Real, Real) {
+    if negative_pressure {
+        mean_and_max_absolute(values, diagonal)
+    } else {
+        mean_and_max_positive(values, diagonal)
+    }
 }
 
 /// The complementarity error of a pressure solve with p ≥ 0: the mean over all particles of

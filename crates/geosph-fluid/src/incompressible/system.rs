@@ -7,7 +7,7 @@ use geosph_core::{Domain, NeighbourList, Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::pair_arrays::{ParticleView, for_each_particle};
-use geosph_sph::{Pair, PairLists, Viscosity, ViscousTerm, ViscousVisitor};
+use geosph_sph::{Pair, PairLists, ParticleShifting, Viscosity, ViscousTerm, ViscousVisitor};
 use rayon::prelude::*;
 
 /// How walls take part in the pressure force.
@@ -68,6 +68,8 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>> {
     pub walls: WallParticles<D>,
     /// Wall pressure model.
     pub wall_pressure: WallPressure,
+    /// Particle shifting of the drift (off: `None`).
+    pub shifting: Option<ParticleShifting>,
     /// Constant c multiplying every pressure-gradient term (1: none). The solvers set it to
     /// 1/f of [`lattice_gradient_factor`](geosph_sph::lattice::lattice_gradient_factor), so
     /// that the pressure force of a linear pressure field on the initial lattice is exact.
@@ -110,6 +112,7 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
             gravity,
             walls,
             wall_pressure,
+            shifting: None,
             gradient_correction: 1.0,
             jacobi_bound: 0.0,
             lattice_gradient_squares: 0.0,
