@@ -11,12 +11,17 @@ use geosph_scene::{Scene, SolverSpec, WallSpec};
 use geosph_sph::ParticleShifting;
 
 use crate::Config;
+use crate::laminar::{self, Flow, ProfileError};
 
 /// A case with a reference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Case {
     /// 2D Taylor–Green vortex in a periodic unit box, U = 1 m/s, ν = 0.01 m²/s (Re = 100).
     TaylorGreen,
+    /// Start-up of plane Poiseuille flow (Morris, Fox & Zhu 1997), [`laminar`].
+    Poiseuille,
+    /// Start-up of plane Couette flow (Morris, Fox & Zhu 1997), [`laminar`].
+    Couette,
     /// Still water 0.5 m deep in a 1 m wide tank.
     Hydrostatic,
     /// Martin & Moyce's 2D dam break, column 1 m × 2 m.
@@ -30,8 +35,10 @@ pub enum Case {
 
 impl Case {
     /// Every case, in report order.
-    pub const ALL: [Case; 5] = [
+    pub const ALL: [Case; 7] = [
         Case::TaylorGreen,
+        Case::Poiseuille,
+        Case::Couette,
         Case::Hydrostatic,
         Case::DamBreak,
         Case::Collapse,
@@ -42,6 +49,8 @@ impl Case {
     pub fn name(self) -> &'static str {
         match self {
             Case::TaylorGreen => "taylor-green",
+            Case::Poiseuille => Flow::Poiseuille.name(),
+            Case::Couette => Flow::Couette.name(),
             Case::Hydrostatic => "hydrostatic",
             Case::DamBreak => "dam-break",
             Case::Collapse => "collapse",
@@ -65,6 +74,9 @@ impl Case {
             // Two turnovers L/U; the kinetic energy has decayed to e^(−16π²νt/L²) = 4.3 %.
             (Case::TaylorGreen, false) => 2.0,
             (Case::TaylorGreen, true) => 1.0,
+            // Steady state (laminar::TIMES); quick: the first three comparison times.
+            (Case::Poiseuille | Case::Couette, false) => 0.9,
+            (Case::Poiseuille | Case::Couette, true) => 0.1125,
             (Case::Hydrostatic, false) => 1.0,
             (Case::Hydrostatic, true) => 0.4,
             (Case::DamBreak, false) => 0.5,
@@ -82,6 +94,11 @@ impl Case {
                 "relative L2 error of the velocity at the end time, ‖v − v_exact‖/‖v_exact‖ over \
                  the particles, with v_exact the Taylor–Green field (Taylor & Green 1937) decayed \
                  by e^(−8π²νt/L²) and evaluated at each particle's position"
+            }
+            Case::Poiseuille | Case::Couette => {
+                "largest error of the layer-averaged velocity profile against the series solution \
+                 (Morris, Fox & Zhu 1997) at t = 0.0225, 0.045, 0.1125, 0.225 and 0.9 s (those \
+                 within the run), over the steady centreline or plate speed 2.5e-5 m/s"
             }
             Case::Hydrostatic => {
                 "RMS over the particle layers (all but the top three) of (p̄ − ρ₀g(H − y))/(ρ₀gH), \
@@ -119,6 +136,8 @@ impl Case {
                            velocity: TaylorGreen(speed: {TG_SPEED}, wavelength: {TG_LENGTH})),
                    solver: Wcsph(()))"
             )),
+            Case::Poiseuille => Scene::from_ron(&Flow::Poiseuille.scene()),
+            Case::Couette => Scene::from_ron(&Flow::Couette.scene()),
             Case::Hydrostatic => Scene::from_ron(&format!(
                 "Scene(name: \"hydrostatic\", dimension: 2, dx: 0.1, end_time: 1.0,
                    fluid: (blocks: [Box(min: [0.0, 0.0], max: [1.0, {DEPTH}])]),
@@ -162,6 +181,7 @@ impl Case {
         scene.output.sample_interval = match self {
             Case::Hydrostatic => 0.01,
             Case::TaylorGreen => end_time / 10.0,
+            Case::Poiseuille | Case::Couette => laminar::TIMES[0],
             _ => scene.output.sample_interval.min(end_time / 10.0),
         };
         scene.solver = solver(self, config, scene.solver)?;
@@ -178,6 +198,19 @@ impl Case {
                 let mut observer = TaylorGreenError::default();
                 let summary = run(&scene, &options, &mut observer)?;
                 (summary, observer.kinetic_energy_ratio, observer.error)
+            }
+            Case::Poiseuille | Case::Couette => {
+                let flow = if self == Case::Poiseuille {
+                    Flow::Poiseuille
+                } else {
+                    Flow::Couette
+                };
+                let mut observer = ProfileError::new(flow, scene.dx);
+                let summary = run(&scene, &options, &mut observer)?;
+                if observer.compared == 0 {
+                    return Err("no comparison time within the run".into());
+                }
+                (summary, observer.error, observer.error)
             }
             Case::Hydrostatic => {
                 let mut observer = LayerPressure::new(scene.dx, 0.5 * scene.end_time);
@@ -266,8 +299,12 @@ where
 /// laminar viscosity for the Taylor–Green vortex.
 fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, String> {
     let laminar = ViscosityConfig::Laminar {
-        kinematic_viscosity: TG_VISCOSITY,
+        kinematic_viscosity: match case {
+            Case::Poiseuille | Case::Couette => laminar::VISCOSITY,
+            _ => TG_VISCOSITY,
+        },
     };
+    let channel = matches!(case, Case::Poiseuille | Case::Couette);
     let mut spec = if config.solver == "soil" {
         if !case.is_soil() {
             return Err(format!("{} is not a soil case", case.name()));
@@ -297,9 +334,15 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
             };
             if case == Case::TaylorGreen {
                 wcsph.viscosity = laminar;
-                // Suction down to −ρ₀U²/2 in the vortex cores: p_b = ρ₀U² keeps p > 0.
-                wcsph.background_pressure = 1000.0 * TG_SPEED * TG_SPEED;
+                // Shifting keeps the particles ordered under the suction of the vortex cores
+                // (−ρ₀U²/2), so no background pressure is needed; one dissipates: p_b = ρ₀U²
+                // loses 4.5 % of the kinetic energy by t = 2 (docs/fluid.md).
                 wcsph.shifting = Some(ParticleShifting::default());
+            }
+            if channel {
+                wcsph.viscosity = laminar;
+                // Ten times the largest speed, as the scene rule would for a free surface.
+                wcsph.sound_speed = Some(10.0 * laminar::SPEED);
             }
         }
         SolverSpec::Pcisph(incompressible)
@@ -310,6 +353,9 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
                 incompressible.viscosity = laminar;
                 incompressible.negative_pressure = true;
                 incompressible.shifting = Some(ParticleShifting::default());
+            }
+            if channel {
+                incompressible.viscosity = laminar;
             }
         }
         SolverSpec::Soil(_) => {}
@@ -427,4 +473,5 @@ macro_rules! observe_in_both_dimensions {
 }
 
 observe_in_both_dimensions!(TaylorGreenError);
+observe_in_both_dimensions!(ProfileError);
 observe_in_both_dimensions!(LayerPressure);

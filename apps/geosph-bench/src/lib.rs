@@ -17,6 +17,7 @@
 #![warn(missing_docs)]
 
 pub mod case;
+pub mod laminar;
 pub mod matrix;
 pub mod report;
 pub mod stability;

@@ -18,6 +18,8 @@ pub fn resolutions(case: Case, quick: bool) -> Vec<Real> {
     match (case, quick) {
         (Case::TaylorGreen, false) => vec![1.0 / 25.0, 1.0 / 50.0, 1.0 / 100.0],
         (Case::TaylorGreen, true) => vec![1.0 / 16.0, 1.0 / 24.0, 1.0 / 32.0],
+        (Case::Poiseuille | Case::Couette, false) => vec![1e-4, 5e-5, 2.5e-5],
+        (Case::Poiseuille | Case::Couette, true) => vec![1e-4, 6.25e-5, 5e-5],
         (Case::Hydrostatic, false) => vec![0.05, 0.025, 0.0125],
         (Case::Hydrostatic, true) => vec![0.1, 0.0625, 0.05],
         (Case::DamBreak, false) => vec![0.05, 0.025, 0.0125],

@@ -92,6 +92,7 @@ impl ViscosityConfig {
                 kinematic_viscosity,
             } => ViscousTerm::Laminar(LaminarMorris1997 {
                 kinematic_viscosity,
+                lattice_correction: 1.0,
             }),
         }
     }
@@ -131,7 +132,7 @@ pub struct WcsphConfig {
     /// Equation of state (default Tait, γ = 7).
     pub equation_of_state: EosKind,
     /// Reference sound speed c₀ in m/s; `None`: 10 × the expected largest speed, max(√(2 g H),
-    /// largest initial speed).
+    /// largest initial speed, largest wall speed).
     pub sound_speed: Option<Real>,
     /// Continuity or summation.
     pub density: DensityConfig,
@@ -420,7 +421,11 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
             kernel,
             setup.domain,
             eos,
-            config.viscosity.term(h, c0),
+            config.viscosity.term(h, c0).calibrated(
+                &kernel,
+                setup.spacing,
+                setup.spacing.powi(D as i32),
+            ),
             config.diffusion.term(h, c0),
             setup.gravity,
             setup.walls,
@@ -507,9 +512,12 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
         method: M,
     ) -> Result<Box<dyn Solver<D>>, SearchError> {
         let (config, setup) = (self.config, self.setup);
+        // The particles' volume on the lattice is 1/Σ_k W (`Incompressible::new`).
+        let volume = 1.0 / lattice_kernel_sum(&kernel, setup.spacing);
         let viscosity = config
             .viscosity
-            .term(kernel.smoothing_length(), setup.sound_speed);
+            .term(kernel.smoothing_length(), setup.sound_speed)
+            .calibrated(&kernel, setup.spacing, volume);
         let mut system = PressureSystem::new(
             kernel,
             setup.domain,

@@ -230,6 +230,11 @@ pub enum WallSpec {
         /// The side of the line the flow is on, looking from the first point (default Left).
         #[serde(default)]
         flow_side: geosph_boundary::generate::FlowSide,
+        /// Prescribed velocity (u, v) of the wall's surface in m/s (default at rest): the
+        /// particles stay in place and the flow sees a moving belt, e.g. the plate of a
+        /// Couette flow. It should lie along the wall.
+        #[serde(default)]
+        velocity: (Real, Real),
     },
 }
 

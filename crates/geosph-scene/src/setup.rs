@@ -205,18 +205,29 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     let start = scene.solver.particle_start();
     let hydrostatic = fluid_spec.hydrostatic && start.hydrostatic;
     let g = gravity.norm();
-    // The expected largest speed: the collapse speed √(2 g H) or the initial speed.
+    // The expected largest speed: the collapse speed √(2 g H), the initial speed or the speed
+    // of a moving wall.
+    let wall_speed = scene
+        .walls
+        .iter()
+        .map(|wall| match wall {
+            WallSpec::Polyline { velocity, .. } => velocity.0.hypot(velocity.1),
+            WallSpec::Tank { .. } => 0.0,
+        })
+        .fold(0.0, Real::max);
     let largest_speed = (2.0 * g * fluid_height)
         .sqrt()
-        .max(initial_speed(&fluid_spec.velocity, &position));
+        .max(initial_speed(&fluid_spec.velocity, &position))
+        .max(wall_speed);
     let sound_speed = match start.sound_speed {
         Some(c0) => c0,
         None if largest_speed > 0.0 => 10.0 * largest_speed,
         None => {
             return Err(SceneError::Field {
                 field: "solver.sound_speed".into(),
-                message: "must be given when gravity is zero and the fluid starts at rest \
-                          (the default is 10 × max(√(2 g H), initial speed))"
+                message: "must be given when gravity is zero, the fluid starts at rest and no \
+                          wall moves (the default is 10 × max(√(2 g H), initial speed, wall \
+                          speed))"
                     .into(),
             });
         }
@@ -278,6 +289,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                 points,
                 layers,
                 flow_side,
+                velocity,
             } => {
                 let points: Vec<Vector<2>> = points
                     .iter()
@@ -294,7 +306,10 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                         ),
                     });
                 }
-                let plane = generate::polyline(&points, dx, *layers, *flow_side, rest_density);
+                let mut plane = generate::polyline(&points, dx, *layers, *flow_side, rest_density);
+                plane
+                    .velocity
+                    .fill(Vector::<2>::new(velocity.0, velocity.1));
                 walls.extend(to_dimension::<D>(plane));
             }
         }

@@ -243,7 +243,12 @@ impl Scene {
                     boxed(&field, min, max, dimension)?;
                     *layers
                 }
-                WallSpec::Polyline { points, layers, .. } => {
+                WallSpec::Polyline {
+                    points,
+                    layers,
+                    velocity,
+                    ..
+                } => {
                     if dimension != 2 {
                         return Err(fail(field, "polyline walls exist only in 2D scenes"));
                     }
@@ -254,6 +259,7 @@ impl Scene {
                         ));
                     }
                     finite_pairs(&format!("{field}.points"), points)?;
+                    finite_pairs(&format!("{field}.velocity"), &[*velocity])?;
                     if let Some(k) = points.windows(2).position(|pair| pair[0] == pair[1]) {
                         return Err(fail(
                             format!("{field}.points[{}]", k + 1),

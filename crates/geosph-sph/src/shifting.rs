@@ -16,12 +16,12 @@
 //! wall, so nothing is shifted into it) and R_s is the support radius. With R_s = 2h (Sun et
 //! al.'s kernel) ζ = 1 is their δr_i = −CFL·Ma·(2h)² Σ_j …, CFL·Ma = U_max Δt / h; the default
 //! ζ = 3 is measured: on the Taylor–Green vortex at Re = 100, 100 × 100 particles, t = 2, ζ = 1
-//! leaves a 2.0 % velocity error and 3.2 % kinetic-energy loss, ζ = 3 0.9 % and 0.3 %
+//! leaves a 0.82 % velocity error and 1.0 % kinetic-energy loss, ζ = 3 0.32 % and +0.3 %
 //! (`docs/fluid.md`, "Particle shifting"). The bracket is the anti-clustering term of Monaghan
 //! (2000) with R = 0.2, n = 4. Written with U_max Δt the
 //! rule holds for the incompressible solvers, whose Δt is not tied to a sound speed, and
-//! D_max = ½ h² bounds the per-step diffusion where Δt is large (the time-independent form of
-//! Lind et al. 2012 uses ½ h²).
+//! D_max = ½ h² bounds the per-step diffusion where Δt is large (a bound chosen here, not taken
+//! from the papers; at the default ζ only the incompressible solvers' longest steps reach it).
 //!
 //! At a free surface the concentration falls because the fluid ends, not because particles
 //! are disordered, so shifting along its gradient would throw surface particles outward.

@@ -109,11 +109,16 @@ impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
 ///
 /// dv_i/dt ∋ Σ_j m_j (μ_i + μ_j) x_ij·∇_i W_ij / (ρ_i ρ_j (|x_ij|² + 0.01 h²)) v_ij,
 ///
-/// with the dynamic viscosity μ = ρ ν of a fluid of kinematic viscosity ν.
+/// with the dynamic viscosity μ = ρ ν of a fluid of kinematic viscosity ν, times the constant
+/// 1/f_ν of [`lattice_laplacian_factor`](crate::lattice::lattice_laplacian_factor) that makes
+/// it exact for a quadratic velocity on the initial lattice (as the incompressible solvers'
+/// pressure gradient is made exact for a linear pressure).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LaminarMorris1997 {
     /// ν.
     pub kinematic_viscosity: Real,
+    /// 1/f_ν (1: uncorrected).
+    pub lattice_correction: Real,
 }
 
 impl<const D: usize> Viscosity<D> for LaminarMorris1997 {
@@ -122,8 +127,8 @@ impl<const D: usize> Viscosity<D> for LaminarMorris1997 {
     #[inline(always)]
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D> {
         // (μ_i + μ_j)/(ρ_i ρ_j) = ν (ρ_i + ρ_j)/(ρ_i ρ_j)
-        let mu_sum =
-            self.kinematic_viscosity * (pair.rho_i + pair.rho_j) / (pair.rho_i * pair.rho_j);
+        let mu_sum = self.kinematic_viscosity * self.lattice_correction * (pair.rho_i + pair.rho_j)
+            / (pair.rho_i * pair.rho_j);
         pair.v_ij * (pair.mass_j * mu_sum * pair.r_ij.dot(&pair.grad) * pair.inv_r2_eta2)
     }
 
@@ -163,6 +168,26 @@ impl ViscousTerm {
             Self::Inviscid => visitor.visit(Inviscid),
             Self::Artificial(term) => visitor.visit(term),
             Self::Laminar(term) => visitor.visit(term),
+        }
+    }
+
+    /// The term calibrated on the initial lattice of `spacing` whose particles have volume
+    /// `volume`: a laminar term gets its 1/f_ν
+    /// ([`lattice_laplacian_factor`](crate::lattice::lattice_laplacian_factor)); the others
+    /// are returned as they are.
+    pub fn calibrated<const D: usize, K: geosph_kernels::Kernel<D>>(
+        self,
+        kernel: &K,
+        spacing: Real,
+        volume: Real,
+    ) -> Self {
+        match self {
+            Self::Laminar(term) => Self::Laminar(LaminarMorris1997 {
+                lattice_correction: 1.0
+                    / crate::lattice::lattice_laplacian_factor(kernel, spacing, volume),
+                ..term
+            }),
+            other => other,
         }
     }
 
@@ -231,6 +256,7 @@ mod tests {
         let nu = 1e-3;
         let visc = LaminarMorris1997 {
             kinematic_viscosity: nu,
+            lattice_correction: 1.0,
         };
         let shear = pair(Vector::<2>::new(0.0, 2.0));
         let a = visc.acceleration(&shear);

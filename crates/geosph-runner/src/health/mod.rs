@@ -23,7 +23,7 @@ pub mod scan;
 use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_neighbours::SearchError;
 use geosph_sph::SphSetup;
-use geosph_sph::{Solver, SolverError, StepReport};
+use geosph_sph::{Solver, SolverError, StepReport, max_speed};
 
 pub use scan::Scan;
 
@@ -128,7 +128,9 @@ pub struct Diagnosis {
 /// with E_el ≥ 0 the stored elastic (compression) energy and D ≥ 0 what viscosity dissipated.
 /// So KE(t) ≤ KE(0) + E_el(0) + W_g(t). A run blows up when KE(t) exceeds
 /// [`ENERGY_FACTOR`] × that, plus the [`ENERGY_FLOOR_MACH`] floor ½ M (0.01 c)². E_el(0) is
-/// estimated as Σ ½ m c² (ρ/ρ₀ − 1)², the energy of a linear-elastic compression.
+/// estimated as Σ ½ m c² (ρ/ρ₀ − 1)², the energy of a linear-elastic compression. Walls with a
+/// prescribed velocity (a belt, a Couette plate) can drive the flow up to their own speed
+/// u_w: ½ M |u_w|²max is added to the initial energy.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnergyBudget {
     /// KE(0) + E_el(0) at the start of the run (or of the restart), J.
@@ -248,8 +250,9 @@ impl<const D: usize> Limits<D> {
             .map(|(rho, m)| 0.5 * m * (sound_speed * (rho / rest_density - 1.0)).powi(2))
             .sum();
         if !gravity_on_periodic_axis {
+            let wall_speed = max_speed(&solver.walls().velocity);
             limits.energy = Some(EnergyBudget {
-                initial: start.kinetic_energy + stored,
+                initial: start.kinetic_energy + stored + 0.5 * mass * wall_speed * wall_speed,
                 initial_gravity_moment: start.gravity_moment,
                 floor: 0.5 * mass * (ENERGY_FLOOR_MACH * sound_speed).powi(2),
             });
