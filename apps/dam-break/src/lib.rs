@@ -14,8 +14,8 @@ use std::path::Path;
 
 use geosph_core::{Particles, Real};
 use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
-use geosph_runner::{Observer, RunOptions, Summary, push_records, take_records};
-use geosph_scene::{Region, Scene};
+use geosph_runner::{NoObserver, Observer, RunOptions, Summary, push_records, take_records};
+use geosph_scene::{Region, Scene, WallSpec};
 
 pub use reference::{ReferenceCurve, martin_moyce_column_height, martin_moyce_front};
 
@@ -318,30 +318,63 @@ pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
     }
 }
 
+/// Whether `scene` is Martin & Moyce's set-up, the only one their data describe: the column
+/// (n² = 2) stands on the floor against the back wall of a tank, in the lower corner of the
+/// tank's inner box, with gravity straight down.
+pub fn is_martin_moyce(scene: &Scene, column: &Column) -> bool {
+    let up = scene.dimension - 1;
+    let downward = scene.gravity.as_ref().is_some_and(|g| {
+        g.iter()
+            .enumerate()
+            .all(|(k, &c)| if k == up { c < 0.0 } else { c == 0.0 })
+    });
+    let Some(Region::Box { min, .. }) = scene.fluid.as_ref().and_then(|f| f.blocks.first()) else {
+        return false;
+    };
+    let in_tank_corner = scene.walls.iter().any(|wall| match wall {
+        WallSpec::Tank { min: inner, .. } => inner
+            .iter()
+            .zip(min)
+            .all(|(a, b)| (a - b).abs() < 0.5 * scene.dx),
+        WallSpec::Polyline { .. } => false,
+    });
+    downward && in_tank_corner && (column.height / column.width - 2.0).abs() < 1e-6
+}
+
 /// The result of a dam-break run.
 #[derive(Clone, Debug)]
 pub struct Report {
     /// The runner's summary.
     pub summary: Summary,
-    /// Front and height samples.
+    /// Front and height samples (none when the scene has no gravity: nothing collapses).
     pub samples: Vec<Sample>,
-    /// Comparison with the references (only for columns with n² = 2).
+    /// Comparison with the references (only for Martin & Moyce's set-up,
+    /// [`is_martin_moyce`]).
     pub validation: Option<Validation>,
 }
 
-/// Runs `scene`; with an output folder, also writes `front.csv`, `front.png` and `height.png`.
+/// Runs `scene`; under gravity it tracks the front and the column height and, with an output
+/// folder, writes `front.csv`, `front.png` and `height.png`, with Martin & Moyce's data only
+/// when the scene is their set-up ([`is_martin_moyce`]).
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     // Before `Column::of`, which indexes the scene's coordinates by its dimension.
     scene.validate().map_err(|error| Error::Run(error.into()))?;
     let column = Column::of(scene)?;
+    if column.gravity == 0.0 {
+        let summary = geosph_runner::run(scene, options, &mut NoObserver)?;
+        return Ok(Report {
+            summary,
+            samples: Vec::new(),
+            validation: None,
+        });
+    }
     let mut tracker = FrontTracker::new(column);
     let summary = geosph_runner::run(scene, options, &mut tracker)?;
     let samples = tracker.samples;
-    // Martin & Moyce's data are for n² = 2 only.
-    let validation =
-        ((column.height / column.width - 2.0).abs() < 1e-6).then(|| validate(&column, &samples));
+    let reference = is_martin_moyce(scene, &column);
+    let validation = reference.then(|| validate(&column, &samples));
     if let Some(dir) = &options.out_dir {
-        write_outputs(dir, &column, &samples)?;
+        write_outputs(dir, &column, &samples, reference)?;
     }
     Ok(Report {
         summary,
@@ -350,7 +383,12 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     })
 }
 
-fn write_outputs(dir: &Path, column: &Column, samples: &[Sample]) -> Result<(), Error> {
+fn write_outputs(
+    dir: &Path,
+    column: &Column,
+    samples: &[Sample],
+    reference: bool,
+) -> Result<(), Error> {
     write_csv_atomically(
         dir.join("front.csv"),
         &["t", "x_front", "column_height"],
@@ -362,10 +400,24 @@ fn write_outputs(dir: &Path, column: &Column, samples: &[Sample]) -> Result<(), 
         .collect();
     let z: Vec<Real> = samples.iter().map(|s| s.front / column.width).collect();
     let front_reference = martin_moyce_front();
-    let t_max = 1.2 * front_reference.x.last().copied().unwrap_or(4.0);
+    let t_max = match reference {
+        true => 1.2 * front_reference.x.last().copied().unwrap_or(4.0),
+        false => t_front.last().copied().unwrap_or(1.0).max(1e-9),
+    };
     let z_max = 1.05 * z.iter().copied().fold(4.2, Real::max);
-    let ritter_t = [0.0, (0.5 * (z_max - 1.0)).min(t_max)];
-    let ritter_z = [1.0, 1.0 + 2.0 * ritter_t[1]];
+    // Ritter's (1892) dry-bed front x = a + 2 √(g h₀) t, in these variables
+    // Z = 1 + 2T √(h₀ / 2a): an upper bound for any column.
+    let speed = 2.0 * (column.height / (2.0 * column.width)).sqrt();
+    let ritter_t = [0.0, ((z_max - 1.0) / speed).min(t_max)];
+    let ritter_z = [1.0, 1.0 + speed * ritter_t[1]];
+    let front_points = match reference {
+        true => vec![Series {
+            label: "Martin & Moyce (1952)",
+            x: &front_reference.x,
+            y: &front_reference.y,
+        }],
+        false => Vec::new(),
+    };
     line_plot_png(
         dir.join("front.png"),
         &PlotSpec {
@@ -379,16 +431,12 @@ fn write_outputs(dir: &Path, column: &Column, samples: &[Sample]) -> Result<(), 
                     y: &z,
                 },
                 Series {
-                    label: "Ritter (1892), Z = 1 + 2T",
+                    label: "Ritter (1892), dry bed",
                     x: &ritter_t,
                     y: &ritter_z,
                 },
             ],
-            points: vec![Series {
-                label: "Martin & Moyce (1952)",
-                x: &front_reference.x,
-                y: &front_reference.y,
-            }],
+            points: front_points,
             x_range: Some((0.0, t_max)),
             y_range: Some((1.0, z_max)),
             ..Default::default()
@@ -400,22 +448,26 @@ fn write_outputs(dir: &Path, column: &Column, samples: &[Sample]) -> Result<(), 
         .collect();
     let h: Vec<Real> = samples.iter().map(|s| s.height / column.height).collect();
     let height_reference = martin_moyce_column_height();
+    let height_points = match reference {
+        true => vec![Series {
+            label: "Martin & Moyce (1952)",
+            x: &height_reference.x,
+            y: &height_reference.y,
+        }],
+        false => Vec::new(),
+    };
     line_plot_png(
         dir.join("height.png"),
         &PlotSpec {
             title: "Dam break: residual column height at the wall",
             x_label: "τ = t √(g/a)",
-            y_label: "H = h / (2a)",
+            y_label: "h / h₀",
             lines: vec![Series {
                 label: "geosph",
                 x: &t_height,
                 y: &h,
             }],
-            points: vec![Series {
-                label: "Martin & Moyce (1952)",
-                x: &height_reference.x,
-                y: &height_reference.y,
-            }],
+            points: height_points,
             y_range: Some((0.0, 1.05)),
             ..Default::default()
         },

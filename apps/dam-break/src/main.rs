@@ -113,10 +113,19 @@ fn main() -> ExitCode {
             if let Some(validation) = &report.validation {
                 println!("{validation}");
             }
+            let mut files = Vec::new();
+            if !report.samples.is_empty() {
+                files.push("front.png, height.png, front.csv");
+            }
+            if !scene.output.probes.is_empty() {
+                files.push("probes.png");
+            }
+            files.push("diagnostics.csv");
             println!(
-                "output             {} (open {}.pvd in ParaView; front.png, height.png, front.csv)",
+                "output             {} (open {}.pvd in ParaView; {})",
                 out.display(),
-                scene.name
+                scene.name,
+                files.join(", ")
             );
             ExitCode::SUCCESS
         }

@@ -1,6 +1,9 @@
 //! Pressure probes: the fluid's pressure at fixed points, sampled with the diagnostics.
 
+use std::path::Path;
+
 use geosph_core::{Particles, Real, Vector};
+use geosph_io::{Error, PlotSpec, Series, line_plot_png};
 use geosph_kernels::shepard::shepard_interpolation;
 use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
 use geosph_scene::ProbeSpec;
@@ -90,4 +93,73 @@ impl<const D: usize> KernelVisitor<D> for Probe<'_, D> {
     fn visit<K: Kernel<D>>(self, kernel: K) -> Option<Real> {
         shepard_interpolation(&kernel, self.x, self.position, self.volume, self.pressure)
     }
+}
+
+/// Plots every probe's pressure against time from `diagnostics.csv` in `dir` into
+/// `probes.png` in kPa, one line per probe (samples without fluid at the probe left out). The
+/// CSV holds the whole run, a restarted one included, so the plot does too.
+pub fn plot_probes(dir: &Path, columns: &[String]) -> Result<(), Error> {
+    if columns.is_empty() {
+        return Ok(());
+    }
+    let path = dir.join("diagnostics.csv");
+    let text = std::fs::read_to_string(&path).map_err(|source| Error::Io {
+        path: path.clone(),
+        source,
+    })?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let index = |name: &str| header.iter().position(|h| *h == name);
+    let (Some(time), Some(probes)) = (
+        index("time"),
+        columns.iter().map(|c| index(c)).collect::<Option<Vec<_>>>(),
+    ) else {
+        return Err(Error::Shape(format!(
+            "{}: no `time` or probe column",
+            path.display()
+        )));
+    };
+    let mut series = vec![(Vec::new(), Vec::new()); probes.len()];
+    for line in lines {
+        let values: Vec<Real> = line
+            .split(',')
+            .map(|v| v.parse().unwrap_or(Real::NAN))
+            .collect();
+        for (k, &column) in probes.iter().enumerate() {
+            let (t, p) = (
+                values[time],
+                values.get(column).copied().unwrap_or(Real::NAN),
+            );
+            if t.is_finite() && p.is_finite() {
+                series[k].0.push(t);
+                series[k].1.push(1e-3 * p);
+            }
+        }
+    }
+    let labels: Vec<&str> = columns.iter().map(|c| c.trim_start_matches("p_")).collect();
+    let lines: Vec<Series<'_>> = series
+        .iter()
+        .zip(&labels)
+        .filter(|((t, _), _)| !t.is_empty())
+        .map(|((t, p), label)| Series { label, x: t, y: p })
+        .collect();
+    if lines.is_empty() {
+        return Ok(());
+    }
+    // From t = 0, so the dry time before the flow reaches a gauge shows.
+    let end = lines
+        .iter()
+        .filter_map(|line| line.x.last().copied())
+        .fold(0.0, Real::max);
+    line_plot_png(
+        dir.join("probes.png"),
+        &PlotSpec {
+            title: "Pressure probes",
+            x_label: "t (s)",
+            y_label: "p (kPa)",
+            lines,
+            x_range: (end > 0.0).then_some((0.0, end)),
+            ..Default::default()
+        },
+    )
 }

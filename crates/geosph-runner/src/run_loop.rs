@@ -398,6 +398,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         let frames = match &mut self.output {
             Some(output) => {
                 output.flush()?;
+                crate::probes::plot_probes(output.dir(), self.probes.columns())?;
                 output.frames()
             }
             None => 0,
