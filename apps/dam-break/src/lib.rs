@@ -323,7 +323,8 @@ pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
 /// tank's inner box, with gravity straight down.
 pub fn is_martin_moyce(scene: &Scene, column: &Column) -> bool {
     let up = scene.dimension - 1;
-    let downward = scene.gravity.as_ref().is_some_and(|g| {
+    // No gravity given: the scene's default, straight down.
+    let downward = scene.gravity.as_ref().is_none_or(|g| {
         g.iter()
             .enumerate()
             .all(|(k, &c)| if k == up { c < 0.0 } else { c == 0.0 })

@@ -19,6 +19,9 @@ fn martin_moyce(scene: &Scene) -> bool {
 #[test]
 fn only_martin_and_moyces_set_up_is_compared_with_their_data() {
     assert!(martin_moyce(&Scene::from_ron(DEFAULT_SCENE).unwrap()));
+    // The 3D column, with the default gravity.
+    let three_d = include_str!("../../../data/scenes/dam-break-3d.ron");
+    assert!(martin_moyce(&Scene::from_ron(three_d).unwrap()));
     // Aspect ratio 1: another experiment.
     assert!(!martin_moyce(&edited("max: [1.0, 2.0]", "max: [1.0, 1.0]")));
     // The column away from the back wall.
