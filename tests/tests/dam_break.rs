@@ -69,3 +69,25 @@ fn dam_break_front_and_height_follow_martin_moyce() {
         assert!(size > 100, "{file} missing or empty");
     }
 }
+
+/// With particle shifting the coarse dam break meets the same bounds, and through the wall
+/// impact (t = 1 s) no particle leaves the tank through a wall: a shift is limited to
+/// 0.1 dx per step (without the limit two particles left at t ≈ 0.92 s, `docs/fluid.md`).
+#[test]
+fn dam_break_with_particle_shifting_keeps_its_particles_in_the_tank() {
+    let text = dam_break::DEFAULT_SCENE.replacen(
+        "diffusion: Molteni(delta: 0.1),",
+        "diffusion: Molteni(delta: 0.1), shifting: Some(()),",
+        1,
+    );
+    let mut scene = Scene::from_ron(&text).unwrap();
+    scene.dx = 0.04;
+    scene.end_time = 1.0;
+    let report = dam_break::run(&scene, &RunOptions::default()).unwrap();
+    let validation = report.validation.expect("the column has n² = 2");
+    println!("{}\n{validation}", report.summary);
+    assert_eq!(report.summary.escaped, 0);
+    assert!(validation.front_rms < 0.35 && validation.front_max < 0.5);
+    assert!(validation.height_rms < 0.08);
+    assert_eq!(validation.ahead_of_ritter, None);
+}

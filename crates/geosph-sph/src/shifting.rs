@@ -21,7 +21,10 @@
 //! (2000) with R = 0.2, n = 4. Written with U_max Δt the
 //! rule holds for the incompressible solvers, whose Δt is not tied to a sound speed, and
 //! D_max = ½ h² bounds the per-step diffusion where Δt is large (a bound chosen here, not taken
-//! from the papers; at the default ζ only the incompressible solvers' longest steps reach it).
+//! from the papers; at the default ζ only the incompressible solvers' longest steps reach it),
+//! and no shift exceeds 0.1 Δx per step: without that limit the splash speed of a dam break
+//! made the shift of particles resting on wall particles large enough to enter the wall
+//! (`docs/fluid.md`, "Free surfaces").
 //!
 //! At a free surface the concentration falls because the fluid ends, not because particles
 //! are disordered, so shifting along its gradient would throw surface particles outward.
@@ -67,6 +70,9 @@ impl Default for ParticleShifting {
 
 /// Exponent n of the anti-clustering term (Monaghan 2000).
 const ANTI_CLUSTERING_EXPONENT: i32 = 4;
+
+/// The largest shift per step, in units of Δx.
+const MAX_STEP: Real = 0.1;
 
 /// D_max / h²: the largest shifting coefficient per step.
 const MAX_COEFFICIENT: Real = 0.5;
@@ -157,7 +163,13 @@ impl ParticleShifting {
             lists.for_each_wall(kernel, position, wall_position, i, |pair| {
                 add(pair.r_ij, pair.r, pair.grad, wall_volume[pair.index]);
             });
-            *shift = self.limit(&moment, &colour, concentration * -coefficient);
+            let value = self.limit(&moment, &colour, concentration * -coefficient);
+            let length = value.norm() * dt;
+            *shift = if length > MAX_STEP * spacing {
+                value * (MAX_STEP * spacing / length)
+            } else {
+                value
+            };
         });
     }
 
