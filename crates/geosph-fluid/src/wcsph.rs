@@ -6,8 +6,8 @@ use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::{
-    Pair, PairLists, ParticleShifting, ShiftingInput, Viscosity, ViscousTerm, ViscousVisitor,
-    max_speed,
+    NoShift, Pair, PairLists, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm, Viscosity,
+    ViscousTerm, ViscousVisitor, max_speed,
 };
 use geosph_time::{ExplicitSystem, Rates};
 use rayon::prelude::*;
@@ -25,8 +25,9 @@ pub enum DensityMode {
 }
 
 /// The physics of one WCSPH rate evaluation, monomorphised over the kernel `K`; the pair loop
-/// of the rates is monomorphised over the viscous and diffusion terms as well, resolved from
-/// [`ViscousTerm`] and [`DiffusionTerm`] once per evaluation.
+/// of the rates is monomorphised over the viscous and diffusion terms and the particle shift
+/// as well, resolved from [`ViscousTerm`], [`DiffusionTerm`] and
+/// [`WcsphSystem::shifting`] ([`ShiftTerm`]) once per evaluation.
 ///
 /// Momentum in the symmetric, momentum-conserving form (Monaghan 1992, eq. 3.3):
 ///
@@ -73,8 +74,6 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     volume: Vec<Real>,
     /// p_i / ρ_i² of every particle, computed once per evaluation.
     pressure_term: Vec<Real>,
-    /// Shifting velocity of every particle, when XSPH is on too.
-    shift: Vec<Vector<D>>,
 }
 
 impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
@@ -117,7 +116,6 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
             shepard_due: false,
             volume: Vec::new(),
             pressure_term: Vec::new(),
-            shift: Vec::new(),
         })
     }
 
@@ -177,8 +175,9 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
         });
     }
 
-    /// XSPH position correction δv_i = ε Σ_j m_j / ρ̄_ij (v_j − v_i) W_ij (Monaghan 1989).
-    fn xsph_correction(&self, fluid: &Particles<D>, correction: &mut [Vector<D>]) {
+    /// XSPH position correction δv_i = ε Σ_j m_j / ρ̄_ij (v_j − v_i) W_ij (Monaghan 1989),
+    /// added to `correction` when `add` (it holds the shift), written over it otherwise.
+    fn xsph_correction(&self, fluid: &Particles<D>, correction: &mut [Vector<D>], add: bool) {
         let epsilon = self.xsph;
         let (kernel, lists) = (&self.kernel, &self.lists);
         correction.par_iter_mut().enumerate().for_each(|(i, dv)| {
@@ -188,7 +187,11 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
                 let rho_mean = 0.5 * (fluid.density[i] + fluid.density[j]);
                 sum += (fluid.velocity[j] - fluid.velocity[i]) * (fluid.mass[j] / rho_mean * w);
             });
-            *dv = sum * epsilon;
+            *dv = if add {
+                *dv + sum * epsilon
+            } else {
+                sum * epsilon
+            };
         });
     }
 }
@@ -253,6 +256,10 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             self.lists.inner(),
         );
 
+        let shift = self.shifting.map(|shifting| {
+            let speed = max_speed(&fluid.velocity);
+            shifting.step(&self.kernel, self.spacing, speed, self.time_step)
+        });
         self.viscosity.visit(RatePass {
             kernel: self.kernel,
             lists: &self.lists,
@@ -264,30 +271,11 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             fluid,
             rates: &mut *rates,
             diffusion: &self.diffusion,
+            shift,
         });
         if self.xsph > 0.0 {
-            self.xsph_correction(fluid, &mut rates.position_correction);
-        }
-        if let Some(shifting) = &self.shifting {
-            let input = ShiftingInput {
-                position: &fluid.position,
-                volume: &self.volume,
-                wall_position: &self.walls.position,
-                wall_volume: &self.walls.volume,
-                max_speed: max_speed(&fluid.velocity),
-                time_step: self.time_step,
-            };
-            if self.xsph > 0.0 {
-                self.shift.resize(fluid.len(), Vector::zeros());
-                let shift = &mut self.shift;
-                shifting.velocity(&self.kernel, self.spacing, &self.lists, input, shift);
-                (rates.position_correction.par_iter_mut(), shift.par_iter())
-                    .into_par_iter()
-                    .for_each(|(correction, shift)| *correction += shift);
-            } else {
-                let correction = &mut rates.position_correction;
-                shifting.velocity(&self.kernel, self.spacing, &self.lists, input, correction);
-            }
+            let add = shift.is_some();
+            self.xsph_correction(fluid, &mut rates.position_correction, add);
         }
     }
 
@@ -310,6 +298,8 @@ struct RatePass<'a, const D: usize, K: Kernel<D>> {
     fluid: &'a Particles<D>,
     rates: &'a mut Rates<D>,
     diffusion: &'a DiffusionTerm<D>,
+    /// The shift of this step, when shifting is on: its sums ride along in the pair loop.
+    shift: Option<ShiftStep>,
 }
 
 impl<const D: usize, K: Kernel<D>> ViscousVisitor<D> for RatePass<'_, D, K> {
@@ -336,12 +326,20 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> DiffusionVisitor<D>
     type Output = ();
 
     fn visit<F: DensityDiffusion<D>>(self, diffusion: &F) {
-        self.pass.run(self.viscosity, diffusion);
+        match self.pass.shift {
+            None => self.pass.run(self.viscosity, diffusion, NoShift),
+            Some(step) => self.pass.run(self.viscosity, diffusion, step),
+        }
     }
 }
 
 impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
-    fn run<V: Viscosity<D>, F: DensityDiffusion<D>>(self, viscosity: V, diffusion: &F) {
+    fn run<V: Viscosity<D>, F: DensityDiffusion<D>, S: ShiftTerm>(
+        self,
+        viscosity: V,
+        diffusion: &F,
+        shift: S,
+    ) {
         let Self {
             kernel,
             lists,
@@ -362,17 +360,20 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
             density,
             ..
         } = fluid;
-        rates
-            .acceleration
-            .par_iter_mut()
-            .zip(rates.density_rate.par_iter_mut())
+        (
+            rates.acceleration.par_iter_mut(),
+            rates.density_rate.par_iter_mut(),
+            rates.position_correction.par_iter_mut(),
+        )
+            .into_par_iter()
             .enumerate()
-            .for_each(|(i, (acceleration, density_rate))| {
+            .for_each(|(i, (acceleration, density_rate, correction))| {
                 let (v_i, rho_i) = (velocity[i], density[i]);
                 let p_over_rho2_i = pressure_term[i];
                 let eta2 = 0.01 * h * h;
                 let mut a_i = gravity;
                 let mut drho_i = 0.0;
+                let mut sums = ShiftSums::<D>::default();
                 lists.for_each_neighbour(&kernel, position, i, |neighbour| {
                     let (j, grad) = (neighbour.index, neighbour.grad);
                     let pair = Pair {
@@ -389,6 +390,10 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
                     a_i += viscosity.acceleration(&pair);
                     drho_i += mass[j] * pair.v_ij.dot(&grad);
                     drho_i += diffusion.rate(i, j, &pair, volume[j]);
+                    if S::ON {
+                        let w = kernel.value(neighbour.r);
+                        shift.add(&mut sums, neighbour.r_ij, w, grad * volume[j]);
+                    }
                 });
                 lists.for_each_wall(&kernel, position, &walls.position, i, |neighbour| {
                     let (w, grad) = (neighbour.index, neighbour.grad);
@@ -412,9 +417,16 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
                     a_i -= grad * (mass_w * (p_over_rho2_i + walls.pressure[w] / (rho_w * rho_w)));
                     a_i += viscosity.acceleration(&pair);
                     drho_i += mass_w * (v_i - walls.velocity[w]).dot(&grad);
+                    if S::ON {
+                        let (w_iw, weighted) = (kernel.value(neighbour.r), grad * walls.volume[w]);
+                        shift.add(&mut sums, neighbour.r_ij, w_iw, weighted);
+                    }
                 });
                 *acceleration = a_i;
                 *density_rate = if summation { 0.0 } else { drho_i };
+                if S::ON {
+                    *correction = shift.finish(&sums);
+                }
             });
     }
 }

@@ -38,7 +38,7 @@ pub use density_error::{compression, density_errors};
 pub use eos::{EosKind, EquationOfState};
 pub use lists::{Neighbour, PairLists};
 pub use setup::{ParticleStart, SphSetup};
-pub use shifting::{ParticleShifting, ShiftingInput};
+pub use shifting::{NoShift, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm, ShiftingInput};
 pub use solver::{Solver, SolverError, StageReport, StepReport, event_step, max_speed};
 pub use state::{SolverState, StateArrays, StateError};
 pub use viscosity::{

@@ -77,6 +77,123 @@ const MAX_STEP: Real = 0.1;
 /// D_max / h²: the largest shifting coefficient per step.
 const MAX_COEFFICIENT: Real = 0.5;
 
+/// The shift of one step ([`ParticleShifting::step`]): what [`ShiftSums`] are turned into a
+/// shifting velocity with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShiftStep {
+    settings: ParticleShifting,
+    /// D_i / Δt.
+    coefficient: Real,
+    /// 1 / W(Δx).
+    reference: Real,
+    /// The largest shifting velocity, [`MAX_STEP`] Δx / Δt.
+    max_speed: Real,
+}
+
+impl ShiftStep {
+    /// The shifting velocity of a particle with `sums`.
+    #[inline]
+    pub fn finish<const D: usize>(&self, sums: &ShiftSums<D>) -> Vector<D> {
+        let value = self.settings.limit(
+            &sums.moment,
+            &sums.colour,
+            sums.concentration * -self.coefficient,
+        );
+        let speed = value.norm();
+        if speed > self.max_speed {
+            value * (self.max_speed / speed)
+        } else {
+            value
+        }
+    }
+}
+
+/// The per-particle sums of a shift, accumulated pair by pair: B_i, the colour gradient
+/// Σ_j V_j ∇_i W_ij and the concentration gradient with its anti-clustering term.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShiftSums<const D: usize> {
+    moment: Matrix<D>,
+    colour: Vector<D>,
+    concentration: Vector<D>,
+}
+
+impl<const D: usize> Default for ShiftSums<D> {
+    fn default() -> Self {
+        Self {
+            moment: Matrix::zeros(),
+            colour: Vector::zeros(),
+            concentration: Vector::zeros(),
+        }
+    }
+}
+
+impl<const D: usize> ShiftSums<D> {
+    /// Adds neighbour j: `r_ij` = x_i − x_j, `w` = W_ij, `weighted` = V_j ∇_i W_ij.
+    #[inline(always)]
+    pub fn add(&mut self, step: &ShiftStep, r_ij: Vector<D>, w: Real, weighted: Vector<D>) {
+        self.moment -= weighted * r_ij.transpose();
+        self.colour += weighted;
+        let ratio = w * step.reference;
+        self.concentration +=
+            weighted * (1.0 + step.settings.anti_clustering * ratio.powi(ANTI_CLUSTERING_EXPONENT));
+    }
+}
+
+/// Whether a pair loop carries a shift: [`NoShift`] (nothing in the loop) or a [`ShiftStep`].
+/// A solver's pair loop is generic over it, so a scene without shifting pays nothing.
+pub trait ShiftTerm: Copy + Send + Sync {
+    /// Whether this term shifts at all (a loop skips the pair work when it does not).
+    const ON: bool;
+
+    /// Adds neighbour j to `sums` (see [`ShiftSums::add`]).
+    fn add<const D: usize>(
+        &self,
+        sums: &mut ShiftSums<D>,
+        r_ij: Vector<D>,
+        w: Real,
+        weighted: Vector<D>,
+    );
+
+    /// The shifting velocity from `sums` (zero for [`NoShift`]).
+    fn finish<const D: usize>(&self, sums: &ShiftSums<D>) -> Vector<D>;
+}
+
+/// No shifting.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NoShift;
+
+impl ShiftTerm for NoShift {
+    const ON: bool = false;
+
+    #[inline(always)]
+    fn add<const D: usize>(&self, _: &mut ShiftSums<D>, _: Vector<D>, _: Real, _: Vector<D>) {}
+
+    #[inline(always)]
+    fn finish<const D: usize>(&self, _sums: &ShiftSums<D>) -> Vector<D> {
+        Vector::zeros()
+    }
+}
+
+impl ShiftTerm for ShiftStep {
+    const ON: bool = true;
+
+    #[inline(always)]
+    fn add<const D: usize>(
+        &self,
+        sums: &mut ShiftSums<D>,
+        r_ij: Vector<D>,
+        w: Real,
+        weighted: Vector<D>,
+    ) {
+        sums.add(self, r_ij, w, weighted);
+    }
+
+    #[inline(always)]
+    fn finish<const D: usize>(&self, sums: &ShiftSums<D>) -> Vector<D> {
+        ShiftStep::finish(self, sums)
+    }
+}
+
 /// The arrays of a particle set that shifting reads.
 #[derive(Clone, Copy, Debug)]
 pub struct ShiftingInput<'a, const D: usize> {
@@ -118,8 +235,36 @@ impl ParticleShifting {
         )
     }
 
+    /// The shift of one step: the coefficient and limits for `kernel` on the lattice of
+    /// `spacing`, the largest particle speed `max_speed` and the step `time_step`.
+    pub fn step<const D: usize, K: Kernel<D>>(
+        &self,
+        kernel: &K,
+        spacing: Real,
+        max_speed: Real,
+        time_step: Real,
+    ) -> ShiftStep {
+        let h = kernel.smoothing_length();
+        let support = kernel.support_radius();
+        let coefficient = if time_step > 0.0 {
+            (self.coefficient * max_speed * time_step * support * support / h)
+                .min(MAX_COEFFICIENT * h * h)
+                / time_step
+        } else {
+            0.0
+        };
+        ShiftStep {
+            settings: *self,
+            coefficient,
+            reference: 1.0 / kernel.value(spacing),
+            max_speed: MAX_STEP * spacing / time_step.max(Real::MIN_POSITIVE),
+        }
+    }
+
     /// The shifting velocity δr_i / Δt of every particle into `velocity` (so a solver adds it
-    /// to the drift, x ← x + Δt (v + δr/Δt)); `spacing` is the lattice spacing Δx.
+    /// to the drift, x ← x + Δt (v + δr/Δt)), in a pass of its own over `lists`; a solver
+    /// that walks the pairs anyway carries a [`ShiftSums`] in its own loop instead
+    /// ([`ShiftTerm`]).
     pub fn velocity<const D: usize, K: Kernel<D>>(
         &self,
         kernel: &K,
@@ -128,17 +273,7 @@ impl ParticleShifting {
         input: ShiftingInput<'_, D>,
         velocity: &mut [Vector<D>],
     ) {
-        let h = kernel.smoothing_length();
-        let support = kernel.support_radius();
-        let dt = input.time_step;
-        let coefficient = if dt > 0.0 {
-            (self.coefficient * input.max_speed * dt * support * support / h)
-                .min(MAX_COEFFICIENT * h * h)
-                / dt
-        } else {
-            0.0
-        };
-        let reference = 1.0 / kernel.value(spacing);
+        let step = self.step(kernel, spacing, input.max_speed, input.time_step);
         let ShiftingInput {
             position,
             volume,
@@ -147,29 +282,20 @@ impl ParticleShifting {
             ..
         } = input;
         velocity.par_iter_mut().enumerate().for_each(|(i, shift)| {
-            let mut moment = Matrix::<D>::zeros();
-            let mut colour = Vector::<D>::zeros();
-            let mut concentration = Vector::<D>::zeros();
-            let mut add = |r_ij: Vector<D>, r: Real, grad: Vector<D>, v_j: Real| {
-                moment -= (grad * v_j) * r_ij.transpose();
-                colour += grad * v_j;
-                let ratio = kernel.value(r) * reference;
-                concentration += grad
-                    * (v_j * (1.0 + self.anti_clustering * ratio.powi(ANTI_CLUSTERING_EXPONENT)));
-            };
+            let mut sums = ShiftSums::default();
             lists.for_each_neighbour(kernel, position, i, |pair| {
-                add(pair.r_ij, pair.r, pair.grad, volume[pair.index]);
+                sums.add(
+                    &step,
+                    pair.r_ij,
+                    kernel.value(pair.r),
+                    pair.grad * volume[pair.index],
+                );
             });
             lists.for_each_wall(kernel, position, wall_position, i, |pair| {
-                add(pair.r_ij, pair.r, pair.grad, wall_volume[pair.index]);
+                let weighted = pair.grad * wall_volume[pair.index];
+                sums.add(&step, pair.r_ij, kernel.value(pair.r), weighted);
             });
-            let value = self.limit(&moment, &colour, concentration * -coefficient);
-            let length = value.norm() * dt;
-            *shift = if length > MAX_STEP * spacing {
-                value * (MAX_STEP * spacing / length)
-            } else {
-                value
-            };
+            *shift = step.finish(&sums);
         });
     }
 
