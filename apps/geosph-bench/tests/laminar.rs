@@ -1,22 +1,26 @@
-//! Start-up of plane Poiseuille and Couette flow (Morris, Fox & Zhu 1997) with WCSPH and the
-//! laminar viscosity, against the series solutions: the layer-averaged velocity profile must
-//! lie within 1 % of the steady speed scale at 0.0225, 0.045, 0.1125, 0.225 and 0.9 s (steady
-//! state), with 20 particles across the channel.
+//! Start-up of plane Poiseuille and Couette flow (Morris, Fox & Zhu 1997) with WCSPH and DFSPH
+//! and the laminar viscosity, against the series solutions: the layer-averaged velocity profile
+//! must lie within 1 % of the steady speed scale at 0.0225, 0.045, 0.1125, 0.225 and 0.9 s
+//! (steady state), with 20 particles across the channel.
 
 use geosph_bench::{Case, Config};
 
-fn profile_error(case: Case) -> f64 {
+fn profile_error(case: Case, solver: &'static str) -> f64 {
     let config = Config {
         case,
-        solver: "wcsph",
+        solver,
         kernel: "wendland-c2",
-        variant: "molteni",
+        variant: if solver == "wcsph" {
+            "molteni"
+        } else {
+            "default"
+        },
         dx: 5e-5,
         dt_factor: 1.0,
     };
     let measured = case.run(&config, false).expect("the channel flow runs");
     eprintln!(
-        "{}: largest profile error {:.4}",
+        "{} {solver}: largest profile error {:.4}",
         case.name(),
         measured.error
     );
@@ -25,12 +29,16 @@ fn profile_error(case: Case) -> f64 {
 
 #[test]
 fn poiseuille_start_up_follows_the_series() {
-    let error = profile_error(Case::Poiseuille);
-    assert!(error <= 0.01, "profile error {error} exceeds 1 %");
+    for solver in ["wcsph", "dfsph"] {
+        let error = profile_error(Case::Poiseuille, solver);
+        assert!(error <= 0.01, "{solver}: profile error {error} exceeds 1 %");
+    }
 }
 
 #[test]
 fn couette_start_up_follows_the_series() {
-    let error = profile_error(Case::Couette);
-    assert!(error <= 0.01, "profile error {error} exceeds 1 %");
+    for solver in ["wcsph", "dfsph"] {
+        let error = profile_error(Case::Couette, solver);
+        assert!(error <= 0.01, "{solver}: profile error {error} exceeds 1 %");
+    }
 }

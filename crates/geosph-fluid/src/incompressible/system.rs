@@ -103,7 +103,11 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
         walls: WallParticles<D>,
         wall_pressure: WallPressure,
     ) -> Result<Self, SearchError> {
-        let lists = PairLists::new(domain, kernel.support_radius(), 0.0, &walls.position, false)?;
+        // A laminar term needs the walls' mirrored velocity, which sums over the flow near each
+        // wall particle: the wall-side list.
+        let laminar = viscosity.kinematic_viscosity() > 0.0;
+        let support = kernel.support_radius();
+        let lists = PairLists::new(domain, support, 0.0, &walls.position, laminar)?;
         Ok(Self {
             kernel,
             lists,
@@ -238,6 +242,47 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
         });
     }
 
+    /// For a laminar viscous term, the no-slip velocity of every wall particle,
+    /// ũ_w = 2 u_w − Σ_f v_f W_wf / Σ_f W_wf (Adami, Hu & Adams 2012, eq. 22; u_w where no
+    /// fluid is near), so that the flow's velocity extrapolated to the wall surface is the
+    /// wall's; without it the no-slip plane sits about a spacing inside the wall. Nothing for
+    /// other terms.
+    pub fn mirror_wall_velocity(&mut self, fluid: &Particles<D>) {
+        if self.viscosity.kinematic_viscosity() == 0.0 {
+            return;
+        }
+        let (kernel, lists) = (&self.kernel, &self.lists);
+        let WallParticles {
+            position: wall_position,
+            velocity: wall_velocity,
+            viscous_velocity,
+            ..
+        } = &mut self.walls;
+        let (wall_position, wall_velocity) = (&*wall_position, &*wall_velocity);
+        viscous_velocity
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(w, mirrored)| {
+                let (mut sum, mut weight) = (Vector::<D>::zeros(), 0.0);
+                lists.for_each_particle_near_wall(
+                    kernel,
+                    &fluid.position,
+                    wall_position,
+                    w,
+                    |pair| {
+                        let value = kernel.value(pair.r);
+                        sum += fluid.velocity[pair.index] * value;
+                        weight += value;
+                    },
+                );
+                *mirrored = if weight > 0.0 {
+                    wall_velocity[w] * 2.0 - sum / weight
+                } else {
+                    wall_velocity[w]
+                };
+            });
+    }
+
     /// The predicted velocity v*_i = v_i + Δt a*_i of every particle into `predicted`, with
     /// a* the [known acceleration](Self::non_pressure_acceleration).
     pub fn predict_velocity(&self, fluid: &Particles<D>, dt: Real, predicted: &mut [Vector<D>]) {
@@ -308,7 +353,12 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
                 r2,
                 inv_r2_eta2: 1.0 / (r2 + eta2),
                 grad,
-                v_ij: v_i - walls.velocity[b],
+                v_ij: v_i
+                    - if V::PHYSICAL {
+                        walls.viscous_velocity[b]
+                    } else {
+                        walls.velocity[b]
+                    },
                 rho_i,
                 rho_j: rho_i,
                 mass_j: mass_b,
