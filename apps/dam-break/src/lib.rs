@@ -384,6 +384,18 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     })
 }
 
+/// Martin & Moyce's `curve` as the markers of a plot, when the scene is their set-up.
+fn measured(curve: &ReferenceCurve, shown: bool) -> Vec<Series<'_>> {
+    match shown {
+        true => vec![Series {
+            label: "Martin & Moyce (1952)",
+            x: &curve.x,
+            y: &curve.y,
+        }],
+        false => Vec::new(),
+    }
+}
+
 fn write_outputs(
     dir: &Path,
     column: &Column,
@@ -411,14 +423,6 @@ fn write_outputs(
     let speed = 2.0 * (column.height / (2.0 * column.width)).sqrt();
     let ritter_t = [0.0, ((z_max - 1.0) / speed).min(t_max)];
     let ritter_z = [1.0, 1.0 + speed * ritter_t[1]];
-    let front_points = match reference {
-        true => vec![Series {
-            label: "Martin & Moyce (1952)",
-            x: &front_reference.x,
-            y: &front_reference.y,
-        }],
-        false => Vec::new(),
-    };
     line_plot_png(
         dir.join("front.png"),
         &PlotSpec {
@@ -437,7 +441,7 @@ fn write_outputs(
                     y: &ritter_z,
                 },
             ],
-            points: front_points,
+            points: measured(&front_reference, reference),
             x_range: Some((0.0, t_max)),
             y_range: Some((1.0, z_max)),
             ..Default::default()
@@ -449,14 +453,6 @@ fn write_outputs(
         .collect();
     let h: Vec<Real> = samples.iter().map(|s| s.height / column.height).collect();
     let height_reference = martin_moyce_column_height();
-    let height_points = match reference {
-        true => vec![Series {
-            label: "Martin & Moyce (1952)",
-            x: &height_reference.x,
-            y: &height_reference.y,
-        }],
-        false => Vec::new(),
-    };
     line_plot_png(
         dir.join("height.png"),
         &PlotSpec {
@@ -468,7 +464,7 @@ fn write_outputs(
                 x: &t_height,
                 y: &h,
             }],
-            points: height_points,
+            points: measured(&height_reference, reference),
             y_range: Some((0.0, 1.05)),
             ..Default::default()
         },

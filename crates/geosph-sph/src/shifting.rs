@@ -87,7 +87,7 @@ pub struct ShiftStep {
     /// 1 / W(Δx).
     reference: Real,
     /// The largest shifting velocity, [`MAX_STEP`] Δx / Δt.
-    max_speed: Real,
+    max_shift_speed: Real,
 }
 
 impl ShiftStep {
@@ -100,8 +100,8 @@ impl ShiftStep {
             sums.concentration * -self.coefficient,
         );
         let speed = value.norm();
-        if speed > self.max_speed {
-            value * (self.max_speed / speed)
+        if speed > self.max_shift_speed {
+            value * (self.max_shift_speed / speed)
         } else {
             value
         }
@@ -257,7 +257,7 @@ impl ParticleShifting {
             settings: *self,
             coefficient,
             reference: 1.0 / kernel.value(spacing),
-            max_speed: MAX_STEP * spacing / time_step.max(Real::MIN_POSITIVE),
+            max_shift_speed: MAX_STEP * spacing / time_step.max(Real::MIN_POSITIVE),
         }
     }
 

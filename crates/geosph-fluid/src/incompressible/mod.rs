@@ -103,7 +103,7 @@ pub struct Scratch<const D: usize> {
     pub divergence: Vec<Real>,
     /// Per-particle residual or source.
     pub residual: Vec<Real>,
-    /// Shifting velocity, or particle volume while it is computed.
+    /// Shifting velocity δv of the step.
     pub shift: Vec<Vector<D>>,
     /// Particle volumes m/ρ (for shifting).
     pub volume: Vec<Real>,
@@ -412,21 +412,13 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
 /// Mean of the positive entries of `values`, summed in index order, and the largest entry
 /// of a particle with a non-zero `diagonal` (one that can take pressure; 0 if none).
 pub(crate) fn mean_and_max_positive(values: &[Real], diagonal: &[Real]) -> (Real, Real) {
-    mean_error_and_max(values, diagonal, |_, value| value.max(0.0))
+    mean_error_and_max(values, diagonal, |_, value| value.max(0.0), |r| r)
 }
 
 /// Mean of |`values`|, summed in index order, and the largest |entry| of a particle with a
 /// non-zero `diagonal`: the error of a solve whose pressures may be negative.
 pub(crate) fn mean_and_max_absolute(values: &[Real], diagonal: &[Real]) -> (Real, Real) {
-    let (sum, max) =
-        values
-            .iter()
-            .zip(diagonal)
-            .fold((0.0, 0.0), |(sum, max): (Real, Real), (&r, &d)| {
-                let max = if d > 0.0 { max.max(r.abs()) } else { max };
-                (sum + r.abs(), max)
-            });
-    (sum / values.len().max(1) as Real, max)
+    mean_error_and_max(values, diagonal, |_, r| r.abs(), Real::abs)
 }
 
 /// [`mean_and_max_absolute`] when `negative_pressure`, else [`mean_and_max_positive`].
@@ -456,26 +448,28 @@ pub(crate) fn complementarity_error(
     pressure: &[Real],
     diagonal: &[Real],
 ) -> (Real, Real) {
-    mean_error_and_max(residual, diagonal, |i, r| {
+    let error = |i: usize, r: Real| {
         if pressure[i] > 0.0 {
             r.abs()
         } else {
             r.max(0.0)
         }
-    })
+    };
+    mean_error_and_max(residual, diagonal, error, |r| r)
 }
 
-/// The mean of `error(i, r_i)` over `residual`, summed in index order, and the largest r_i of
-/// a particle with a non-zero `diagonal` (0 if none).
+/// The mean of `error(i, r_i)` over `residual`, summed in index order, and the largest
+/// `peak(r_i)` of a particle with a non-zero `diagonal` (0 if none).
 fn mean_error_and_max(
     residual: &[Real],
     diagonal: &[Real],
     error: impl Fn(usize, Real) -> Real,
+    peak: impl Fn(Real) -> Real,
 ) -> (Real, Real) {
     let (sum, max) = residual.iter().zip(diagonal).enumerate().fold(
         (0.0, 0.0),
         |(sum, max): (Real, Real), (i, (&r, &d))| {
-            let max = if d > 0.0 { max.max(r) } else { max };
+            let max = if d > 0.0 { max.max(peak(r)) } else { max };
             (sum + error(i, r), max)
         },
     );
