@@ -12,4 +12,5 @@ mod neighbours;
 mod output_integrity;
 mod soil_element;
 mod soil_sph;
+mod wall_pressure;
 mod wcsph;

@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 mod reference;
+mod wall_pressure;
 
 use std::path::Path;
 
@@ -17,7 +18,12 @@ use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
 use geosph_runner::{NoObserver, Observer, RunOptions, Summary, push_records, take_records};
 use geosph_scene::{Region, Scene, WallSpec};
 
-pub use reference::{ReferenceCurve, martin_moyce_column_height, martin_moyce_front};
+pub use reference::{
+    ReferenceCurve, lobovsky_wall_pressure, martin_moyce_column_height, martin_moyce_front,
+};
+pub use wall_pressure::{
+    GaugeComparison, LobovskySetUp, SENSORS, WallGauges, WallPressureValidation,
+};
 
 /// The embedded default scene (`data/scenes/dam-break-2d.ron`).
 pub const DEFAULT_SCENE: &str = include_str!("../../../data/scenes/dam-break-2d.ron");
@@ -167,7 +173,14 @@ impl<const D: usize> Observer<D> for FrontTracker {
     }
 
     fn restore_state(&mut self, mut state: &[Real]) -> Result<(), String> {
-        self.samples = take_records(&mut state)?
+        self.restore(&mut state)
+    }
+}
+
+impl FrontTracker {
+    /// Takes the samples saved by [`Observer::save_state`] from the front of `state`.
+    fn restore(&mut self, state: &mut &[Real]) -> Result<(), String> {
+        self.samples = take_records(state)?
             .into_iter()
             .map(|[time, front, height]| Sample {
                 time,
@@ -176,6 +189,60 @@ impl<const D: usize> Observer<D> for FrontTracker {
             })
             .collect();
         Ok(())
+    }
+}
+
+/// What `run` observes: the front and column height, and in Lobovsky et al.'s set-up the wall
+/// gauges (2D only).
+struct DamBreakObserver {
+    tracker: FrontTracker,
+    gauges: Option<WallGauges>,
+}
+
+impl Observer<2> for DamBreakObserver {
+    fn columns(&self) -> Vec<&'static str> {
+        Observer::<2>::columns(&self.tracker)
+    }
+
+    fn sample(&mut self, time: Real, fluid: &Particles<2>, row: &mut Vec<Real>) {
+        self.tracker.sample(time, fluid, row);
+        if let Some(gauges) = &mut self.gauges {
+            gauges.sample(time, fluid);
+        }
+    }
+
+    fn save_state(&self) -> Vec<Real> {
+        let mut state = Observer::<2>::save_state(&self.tracker);
+        if let Some(gauges) = &self.gauges {
+            gauges.save(&mut state);
+        }
+        state
+    }
+
+    fn restore_state(&mut self, mut state: &[Real]) -> Result<(), String> {
+        self.tracker.restore(&mut state)?;
+        match &mut self.gauges {
+            Some(gauges) => gauges.restore(&mut state),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Observer<3> for DamBreakObserver {
+    fn columns(&self) -> Vec<&'static str> {
+        Observer::<3>::columns(&self.tracker)
+    }
+
+    fn sample(&mut self, time: Real, fluid: &Particles<3>, row: &mut Vec<Real>) {
+        self.tracker.sample(time, fluid, row);
+    }
+
+    fn save_state(&self) -> Vec<Real> {
+        Observer::<3>::save_state(&self.tracker)
+    }
+
+    fn restore_state(&mut self, state: &[Real]) -> Result<(), String> {
+        Observer::<3>::restore_state(&mut self.tracker, state)
     }
 }
 
@@ -322,24 +389,42 @@ pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
 /// (n² = 2) stands on the floor against the back wall of a tank, in the lower corner of the
 /// tank's inner box, with gravity straight down.
 pub fn is_martin_moyce(scene: &Scene, column: &Column) -> bool {
+    downward_gravity(scene)
+        && tank_at_column(scene).is_some()
+        && (column.height / column.width - 2.0).abs() < 1e-6
+}
+
+/// Whether the scene's gravity points straight down (no gravity given: the default, which
+/// does).
+fn downward_gravity(scene: &Scene) -> bool {
     let up = scene.dimension - 1;
-    // No gravity given: the scene's default, straight down.
-    let downward = scene.gravity.as_ref().is_none_or(|g| {
+    scene.gravity.as_ref().is_none_or(|g| {
         g.iter()
             .enumerate()
             .all(|(k, &c)| if k == up { c < 0.0 } else { c == 0.0 })
-    });
+    })
+}
+
+/// The inner box (min, max) of the tank in whose lower corner the column (the first fluid
+/// block) stands, within half a particle spacing.
+fn tank_at_column(scene: &Scene) -> Option<(&[Real], &[Real])> {
     let Some(Region::Box { min, .. }) = scene.fluid.as_ref().and_then(|f| f.blocks.first()) else {
-        return false;
+        return None;
     };
-    let in_tank_corner = scene.walls.iter().any(|wall| match wall {
-        WallSpec::Tank { min: inner, .. } => inner
+    scene.walls.iter().find_map(|wall| match wall {
+        WallSpec::Tank {
+            min: inner_min,
+            max: inner_max,
+            ..
+        } if inner_min
             .iter()
             .zip(min)
-            .all(|(a, b)| (a - b).abs() < 0.5 * scene.dx),
-        WallSpec::Polyline { .. } => false,
-    });
-    downward && in_tank_corner && (column.height / column.width - 2.0).abs() < 1e-6
+            .all(|(a, b)| (a - b).abs() < 0.5 * scene.dx) =>
+        {
+            Some((inner_min.as_slice(), inner_max.as_slice()))
+        }
+        _ => None,
+    })
 }
 
 /// The result of a dam-break run.
@@ -352,11 +437,15 @@ pub struct Report {
     /// Comparison with the references (only for Martin & Moyce's set-up,
     /// [`is_martin_moyce`]).
     pub validation: Option<Validation>,
+    /// The wall gauges against Lobovsky et al. (2014) (only for their set-up with a probe at a
+    /// sensor, [`LobovskySetUp::of`]).
+    pub wall_pressure: Option<WallPressureValidation>,
 }
 
 /// Runs `scene`; under gravity it tracks the front and the column height and, with an output
 /// folder, writes `front.csv`, `front.png` and `height.png`, with Martin & Moyce's data only
-/// when the scene is their set-up ([`is_martin_moyce`]).
+/// when the scene is their set-up ([`is_martin_moyce`]). In Lobovsky et al.'s set-up it also
+/// compares the probes at their sensors ([`LobovskySetUp::of`]) and writes `wall-pressure.png`.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     // Before `Column::of`, which indexes the scene's coordinates by its dimension.
     scene.validate().map_err(|error| Error::Run(error.into()))?;
@@ -367,20 +456,29 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
             summary,
             samples: Vec::new(),
             validation: None,
+            wall_pressure: None,
         });
     }
-    let mut tracker = FrontTracker::new(column);
-    let summary = geosph_runner::run(scene, options, &mut tracker)?;
+    let mut observer = DamBreakObserver {
+        tracker: FrontTracker::new(column),
+        gauges: LobovskySetUp::of(scene, &column).map(|set_up| WallGauges::new(scene, set_up)),
+    };
+    let summary = geosph_runner::run(scene, options, &mut observer)?;
+    let DamBreakObserver { tracker, gauges } = observer;
     let samples = tracker.samples;
     let reference = is_martin_moyce(scene, &column);
     let validation = reference.then(|| validate(&column, &samples));
     if let Some(dir) = &options.out_dir {
         write_outputs(dir, &column, &samples, reference)?;
+        if let Some(gauges) = &gauges {
+            gauges.plot(dir)?;
+        }
     }
     Ok(Report {
         summary,
         samples,
         validation,
+        wall_pressure: gauges.map(|gauges| gauges.compare()),
     })
 }
 

@@ -113,12 +113,18 @@ fn main() -> ExitCode {
             if let Some(validation) = &report.validation {
                 println!("{validation}");
             }
+            if let Some(wall_pressure) = &report.wall_pressure {
+                println!("{wall_pressure}");
+            }
             let mut files = Vec::new();
             if !report.samples.is_empty() {
                 files.push("front.png, height.png, front.csv");
             }
             if !scene.output.probes.is_empty() {
                 files.push("probes.png");
+            }
+            if report.wall_pressure.is_some() {
+                files.push("wall-pressure.png");
             }
             files.push("diagnostics.csv");
             println!(

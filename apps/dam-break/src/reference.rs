@@ -1,4 +1,5 @@
-//! The experimental curves of Martin & Moyce (1952), embedded from `data/validation/`.
+//! The experimental curves of Martin & Moyce (1952) and Lobovsky et al. (2014), embedded from
+//! `data/validation/`.
 
 use geosph_core::Real;
 
@@ -41,6 +42,23 @@ pub fn martin_moyce_column_height() -> ReferenceCurve {
     ))
 }
 
+/// Wall pressure p/(ρ g H) against t √(g/H) of Lobovsky, Botia-Vera, Castellana, Mas-Soler &
+/// Souto-Iglesias (2014, J. Fluids Struct. 48:407, H = 0.3 m) at sensor 1 (3 mm above the
+/// bed), 3 (30 mm) and 4 (80 mm) on the downstream wall, in that order.
+pub fn lobovsky_wall_pressure() -> [ReferenceCurve; 3] {
+    [
+        parse(include_str!(
+            "../../../data/validation/lobovsky-2014-sensor1-z3mm.csv"
+        )),
+        parse(include_str!(
+            "../../../data/validation/lobovsky-2014-sensor3-z30mm.csv"
+        )),
+        parse(include_str!(
+            "../../../data/validation/lobovsky-2014-sensor4-z80mm.csv"
+        )),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -53,5 +71,7 @@ mod tests {
         let height = martin_moyce_column_height();
         assert_eq!(height.x.len(), 17);
         assert_eq!((height.x[16], height.y[0]), (7.40, 0.94));
+        let lengths = lobovsky_wall_pressure().map(|curve| curve.x.len());
+        assert_eq!(lengths, [61, 119, 58]);
     }
 }
