@@ -2,7 +2,7 @@
 //! it with every option resolved to a type.
 
 use geosph_boundary::{DummyAdami2012, Slip};
-use geosph_core::{Particles, Real};
+use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_neighbours::SearchError;
 use geosph_sph::config_error::{ConfigError, in_range, positive};
@@ -14,7 +14,7 @@ use geosph_sph::{
 use geosph_time::{Integrator, Scheme};
 use serde::{Deserialize, Serialize};
 
-use crate::diffusion::{DeltaAntuono2010, DeltaMolteni2009, DiffusionTerm};
+use crate::diffusion::{DeltaAntuono2010, DeltaFourtakas2019, DeltaMolteni2009, DiffusionTerm};
 use crate::incompressible::{
     Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
     WallPressure,
@@ -60,6 +60,11 @@ pub enum DiffusionConfig {
         /// δ, typically 0.1.
         delta: Real,
     },
+    /// Fourtakas et al. (2019), Molteni's term about hydrostatics.
+    Fourtakas {
+        /// δ, typically 0.1.
+        delta: Real,
+    },
 }
 
 impl ViscosityConfig {
@@ -99,8 +104,15 @@ impl ViscosityConfig {
 }
 
 impl DiffusionConfig {
-    /// The term for smoothing length `h` and sound speed `sound_speed` (c₀ of δ h c₀).
-    pub fn term<const D: usize>(&self, h: Real, sound_speed: Real) -> DiffusionTerm<D> {
+    /// The term for smoothing length `h`, sound speed `sound_speed` (c₀ of δ h c₀), and,
+    /// for Fourtakas et al.'s, rest density and gravity.
+    pub fn term<const D: usize>(
+        &self,
+        h: Real,
+        sound_speed: Real,
+        rest_density: Real,
+        gravity: Vector<D>,
+    ) -> DiffusionTerm<D> {
         match *self {
             Self::None => DiffusionTerm::None,
             Self::Molteni { delta } => DiffusionTerm::Molteni(DeltaMolteni2009 {
@@ -111,6 +123,14 @@ impl DiffusionConfig {
             Self::Antuono { delta } => {
                 DiffusionTerm::Antuono(DeltaAntuono2010::new(delta, h, sound_speed))
             }
+            Self::Fourtakas { delta } => DiffusionTerm::Fourtakas(DeltaFourtakas2019 {
+                base: DeltaMolteni2009 {
+                    delta,
+                    smoothing_length: h,
+                    sound_speed,
+                },
+                hydrostatic_gradient: gravity * (rest_density / (sound_speed * sound_speed)),
+            }),
         }
     }
 }
@@ -136,7 +156,7 @@ pub struct WcsphConfig {
     pub sound_speed: Option<Real>,
     /// Continuity or summation.
     pub density: DensityConfig,
-    /// δ-SPH density diffusion (default Molteni, δ = 0.1).
+    /// δ-SPH density diffusion (default Fourtakas et al. 2019, δ = 0.1).
     pub diffusion: DiffusionConfig,
     /// Viscous term (default artificial, α = 0.02).
     pub viscosity: ViscosityConfig,
@@ -172,7 +192,7 @@ impl Default for WcsphConfig {
             equation_of_state: EosKind::Tait { gamma: 7.0 },
             sound_speed: None,
             density: DensityConfig::Continuity,
-            diffusion: DiffusionConfig::Molteni { delta: 0.1 },
+            diffusion: DiffusionConfig::Fourtakas { delta: 0.1 },
             viscosity: ViscosityConfig::Artificial {
                 alpha: 0.02,
                 beta: 0.0,
@@ -203,9 +223,9 @@ impl WcsphConfig {
         }
         match self.diffusion {
             DiffusionConfig::None => {}
-            DiffusionConfig::Molteni { delta } | DiffusionConfig::Antuono { delta } => {
-                in_range("diffusion.delta", delta, 0.0, 1.0)?
-            }
+            DiffusionConfig::Molteni { delta }
+            | DiffusionConfig::Antuono { delta }
+            | DiffusionConfig::Fourtakas { delta } => in_range("diffusion.delta", delta, 0.0, 1.0)?,
         }
         self.viscosity.validate()?;
         in_range("xsph", self.xsph, 0.0, 1.0)?;
@@ -426,12 +446,16 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
                 setup.spacing,
                 setup.spacing.powi(D as i32),
             ),
-            config.diffusion.term(h, c0),
+            config
+                .diffusion
+                .term(h, c0, setup.rest_density, setup.gravity),
             setup.gravity,
             setup.walls,
             wall_condition,
             config.neighbour_skin,
         )?;
+        system.gradient_correction =
+            1.0 / lattice_gradient_factor(&kernel, setup.spacing, setup.spacing.powi(D as i32));
         system.xsph = config.xsph;
         system.shifting = config.shifting;
         system.spacing = setup.spacing;
@@ -487,7 +511,8 @@ impl<const D: usize> KernelVisitor<D> for IncompressibleBuilder<'_, D> {
                 let mass = self.setup.rest_density / lattice_kernel_sum(&kernel, spacing);
                 let mut method = Pcisph::new::<D, K>(&kernel, spacing, mass);
                 // The system's diagonals carry the gradient correction; so must the prototype's.
-                method.prototype_diagonal /= lattice_gradient_factor(&kernel, spacing);
+                let volume = 1.0 / lattice_kernel_sum(&kernel, spacing);
+                method.prototype_diagonal /= lattice_gradient_factor(&kernel, spacing, volume);
                 self.finish(kernel, method)
             }
             IncompressibleMethod::Iisph => {

@@ -75,6 +75,42 @@ impl<const D: usize> DensityDiffusion<D> for DeltaMolteni2009 {
     }
 }
 
+/// The density diffusion of Fourtakas, Domínguez, Vacondio & Rogers (2019, Comput. Fluids
+/// 190:346, eq. 14): Molteni & Colagrossi's term applied to the density's departure from
+/// hydrostatics,
+///
+/// D_i = 2 δ h c₀ Σ_j [(ρ_i − ρ_j) − ρᴴ_ij] x_ij·∇_i W_ij / (|x_ij|² + 0.01 h²) V_j,
+/// ρᴴ_ij = ρ₀ g·x_ij / c₀²,
+///
+/// ρᴴ_ij being the hydrostatic density difference between i and j (the pressure difference
+/// ρ₀ g·x_ij through the equation of state, linearised as in `docs/fluid.md`, "Density
+/// diffusion"). A column at rest under gravity is not diffused, so it does not drift as with
+/// [`DeltaMolteni2009`]; unlike [`DeltaAntuono2010`] it needs no density gradients, so it
+/// costs one dot product per pair and is defined for a particle with any neighbours (a
+/// droplet of two or three).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeltaFourtakas2019<const D: usize> {
+    /// The Molteni–Colagrossi part.
+    pub base: DeltaMolteni2009,
+    /// ρ₀ g / c₀², the hydrostatic density gradient.
+    pub hydrostatic_gradient: Vector<D>,
+}
+
+impl<const D: usize> DensityDiffusion<D> for DeltaFourtakas2019<D> {
+    #[inline(always)]
+    fn rate(&self, _i: usize, _j: usize, pair: &Pair<D>, volume_j: Real) -> Real {
+        let base = &self.base;
+        let hydrostatic = self.hydrostatic_gradient.dot(&pair.r_ij);
+        2.0 * base.delta
+            * base.smoothing_length
+            * base.sound_speed
+            * (pair.rho_i - pair.rho_j - hydrostatic)
+            * pair.r_ij.dot(&pair.grad)
+            * pair.inv_r2_eta2
+            * volume_j
+    }
+}
+
 /// The δ-SPH diffusion of Antuono, Colagrossi, Marrone & Molteni (2010, Comput. Phys. Commun.
 /// 181:532, eq. 6), which subtracts the renormalised density gradients,
 ///
@@ -172,6 +208,8 @@ pub enum DiffusionTerm<const D: usize> {
     Molteni(DeltaMolteni2009),
     /// [`DeltaAntuono2010`].
     Antuono(DeltaAntuono2010<D>),
+    /// [`DeltaFourtakas2019`].
+    Fourtakas(DeltaFourtakas2019<D>),
 }
 
 /// A computation generic over the diffusion term, called by [`DiffusionTerm::visit`].
@@ -202,6 +240,7 @@ impl<const D: usize> DiffusionTerm<D> {
             Self::Antuono(term) => {
                 term.prepare(kernel, domain, position, density, volume, neighbours)
             }
+            Self::Fourtakas(_) => {}
         }
     }
 
@@ -212,6 +251,7 @@ impl<const D: usize> DiffusionTerm<D> {
             Self::None => visitor.visit(&NoDiffusion),
             Self::Molteni(term) => visitor.visit(term),
             Self::Antuono(term) => visitor.visit(term),
+            Self::Fourtakas(term) => visitor.visit(term),
         }
     }
 }

@@ -51,6 +51,11 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     pub diffusion: DiffusionTerm<D>,
     /// Body-force acceleration g.
     pub gravity: Vector<D>,
+    /// 1/f of [`lattice_gradient_factor`](geosph_sph::lattice::lattice_gradient_factor) with
+    /// the particles' volume dx^D (1: off), on every pressure-gradient term, so that the
+    /// pressure holding still water up is ρ₀ g (H − y) on the lattice (default 1; the scene
+    /// builder sets it).
+    pub gradient_correction: Real,
     /// XSPH factor ε (0: off) of dx/dt = v + ε Σ_j m_j/ρ̄_ij (v_j − v_i) W_ij (Monaghan 1989).
     pub xsph: Real,
     /// Particle shifting (off: `None`), added to the drift like XSPH.
@@ -105,6 +110,7 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
             viscosity,
             diffusion,
             gravity,
+            gradient_correction: 1.0,
             xsph: 0.0,
             shifting: None,
             spacing: 0.0,
@@ -234,6 +240,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
         );
         self.volume.resize(fluid.len(), 0.0);
         self.pressure_term.resize(fluid.len(), 0.0);
+        let correction = self.gradient_correction;
         (
             self.volume.par_iter_mut(),
             self.pressure_term.par_iter_mut(),
@@ -245,7 +252,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             .with_min_len(1024)
             .for_each(|(v, term, m, rho, p)| {
                 *v = m / rho;
-                *term = p / (rho * rho);
+                *term = correction * p / (rho * rho);
             });
         self.diffusion.prepare(
             &self.kernel,
@@ -267,6 +274,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             walls: &self.walls,
             volume: &self.volume,
             pressure_term: &self.pressure_term,
+            gradient_correction: self.gradient_correction,
             summation: self.density_mode == DensityMode::Summation,
             fluid,
             rates: &mut *rates,
@@ -293,7 +301,9 @@ struct RatePass<'a, const D: usize, K: Kernel<D>> {
     gravity: Vector<D>,
     walls: &'a WallParticles<D>,
     volume: &'a [Real],
+    /// `pressure_term` = c p/ρ² with c the gradient correction, which the wall terms take too.
     pressure_term: &'a [Real],
+    gradient_correction: Real,
     summation: bool,
     fluid: &'a Particles<D>,
     rates: &'a mut Rates<D>,
@@ -347,6 +357,7 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
             walls,
             volume,
             pressure_term,
+            gradient_correction,
             summation,
             fluid,
             rates,
@@ -414,7 +425,8 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
                         rho_j: rho_w,
                         mass_j: mass_w,
                     };
-                    a_i -= grad * (mass_w * (p_over_rho2_i + walls.pressure[w] / (rho_w * rho_w)));
+                    let p_over_rho2_w = gradient_correction * walls.pressure[w] / (rho_w * rho_w);
+                    a_i -= grad * (mass_w * (p_over_rho2_i + p_over_rho2_w));
                     a_i += viscosity.acceleration(&pair);
                     drho_i += mass_w * (v_i - walls.velocity[w]).dot(&grad);
                     if S::ON {

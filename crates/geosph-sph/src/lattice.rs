@@ -51,17 +51,21 @@ pub fn lattice_kernel_sum<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Rea
 }
 
 /// The factor f of Σ_j V (x_j − x_i) ⊗ ∇_i W_ij = f I for a particle inside a filled lattice
-/// of spacing dx with V = 1 / Σ_k W(|k dx|), the volume the incompressible solvers give it.
+/// of spacing dx whose particles have volume `volume`: 1 / Σ_k W(|k dx|) for the
+/// incompressible solvers, dx^D for WCSPH.
 ///
 /// f = 1 would make the SPH gradient of a linear field exact; for Wendland C2 at h = 1.3 dx
-/// in 2D f = 0.964 (see the unit test), so a pressure force −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²)
-/// ∇_i W_ij holding still water up needs a pressure gradient 3.7 % steeper than ρ₀ g. The
-/// solvers multiply every pressure-gradient term by 1/f
-/// (the incompressible solvers' `gradient_correction`): a constant, so the pair forces stay
-/// antisymmetric and momentum is conserved, unlike a per-particle renormalisation
-/// (Randles & Libersky 1996), which is exact for any particle order but is not.
-pub fn lattice_gradient_factor<const D: usize, K: Kernel<D>>(kernel: &K, spacing: Real) -> Real {
-    let volume = 1.0 / lattice_kernel_sum(kernel, spacing);
+/// in 2D f = 0.964 with V = 1/Σ_k W and 0.974 with V = dx² (see the unit test), so a pressure
+/// force −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij holding still water up needs a pressure
+/// gradient 3.7 % (2.7 %) steeper than ρ₀ g. Every solver multiplies its pressure-gradient
+/// terms by 1/f (`gradient_correction`): a constant, so the pair forces stay antisymmetric
+/// and momentum is conserved, unlike a per-particle renormalisation (Randles & Libersky
+/// 1996), which is exact for any particle order but is not.
+pub fn lattice_gradient_factor<const D: usize, K: Kernel<D>>(
+    kernel: &K,
+    spacing: Real,
+    volume: Real,
+) -> Real {
     let mut sum = 0.0;
     for_each_lattice_offset::<D>(kernel.support_radius(), spacing, |x| {
         // x = x_j − x_i, so ∇_i W_ij = ∇W(−x).
@@ -239,8 +243,8 @@ mod tests {
     }
 
     /// The factor against a direct sum of the x-gradient of f(x) = x over a lattice, which
-    /// must tend to 1 as h/dx grows (0.9638 at 1.3, 0.9923 at 1.5, 0.9980 at 2.0 in 2D,
-    /// computed independently).
+    /// must tend to 1 as h/dx grows (0.9638 at 1.3, 0.9923 at 1.5, 0.9980 at 2.0 in 2D with
+    /// V = 1/Σ_k W, computed independently).
     #[test]
     fn lattice_gradient_factor_is_the_gradient_of_a_linear_field() {
         let dx: Real = 0.01;
@@ -251,9 +255,12 @@ mod tests {
             for_each_lattice_offset::<2>(kernel.support_radius(), dx, |x| {
                 gradient += kernel.gradient(&-x) * (volume * x[0]);
             });
-            let factor = lattice_gradient_factor::<2, _>(&kernel, dx);
+            let factor = lattice_gradient_factor::<2, _>(&kernel, dx, volume);
             assert!((gradient[0] - factor).abs() < 1e-12 && gradient[1].abs() < 1e-12);
             assert!((factor - expected).abs() < 5e-4, "h = {ratio} dx: {factor}");
+            // With WCSPH's volume dx²: 0.9739 at h = 1.3 dx (the same sum, volume dx²).
+            let wcsph = lattice_gradient_factor::<2, _>(&kernel, dx, dx * dx);
+            assert!((wcsph / factor - volume.recip() * dx * dx).abs() < 1e-12);
         }
     }
 

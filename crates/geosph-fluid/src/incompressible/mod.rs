@@ -232,7 +232,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Incompressible<D, K, M>
         let scale = cell / spacing.powi(D as i32);
         fluid.mass.iter_mut().for_each(|m| *m *= scale);
         system.walls.volume.iter_mut().for_each(|v| *v *= scale);
-        system.gradient_correction = 1.0 / lattice_gradient_factor(&system.kernel, spacing);
+        system.gradient_correction = 1.0 / lattice_gradient_factor(&system.kernel, spacing, cell);
         system.jacobi_bound = lattice_jacobi_bound(&system.kernel, spacing);
         system.lattice_gradient_squares = lattice_gradient_squares(&system.kernel, spacing);
         let mut method = method;
