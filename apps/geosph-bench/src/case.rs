@@ -327,7 +327,8 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
         SolverSpec::Wcsph(wcsph) => {
             wcsph.cfl *= config.dt_factor;
             wcsph.diffusion = match config.variant {
-                "molteni" | "default" => DiffusionConfig::Molteni { delta: 0.1 },
+                "fourtakas" | "default" => DiffusionConfig::Fourtakas { delta: 0.1 },
+                "molteni" => DiffusionConfig::Molteni { delta: 0.1 },
                 "antuono" => DiffusionConfig::Antuono { delta: 0.1 },
                 "none" => DiffusionConfig::None,
                 other => return Err(format!("unknown WCSPH variant `{other}`")),

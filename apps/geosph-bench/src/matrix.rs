@@ -32,7 +32,8 @@ pub fn resolutions(case: Case, quick: bool) -> Vec<Real> {
 }
 
 /// The matrix: every case at every resolution with each solver and kernel at the default time
-/// step; WCSPH also with Antuono's diffusion and none, and every solver also at twice the
+/// step (WCSPH with its default, Fourtakas et al.'s diffusion); WCSPH also with Molteni's and
+/// Antuono's diffusion and none, and every solver also at twice the
 /// default time step on the middle resolution. `quick`: WCSPH and DFSPH (WCSPH only for the
 /// vortex) with Wendland C2 only.
 pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
@@ -60,7 +61,7 @@ pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
         };
         for &solver in solvers {
             let variant = if solver == "wcsph" {
-                "molteni"
+                "fourtakas"
             } else {
                 "default"
             };
@@ -75,7 +76,7 @@ pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
             let middle = dxs[dxs.len() / 2];
             configs.push(config(solver, "wendland-c2", variant, middle, 2.0));
             if solver == "wcsph" && !case.is_soil() {
-                for other in ["antuono", "none"] {
+                for other in ["molteni", "antuono", "none"] {
                     for &dx in &dxs {
                         configs.push(config(solver, "wendland-c2", other, dx, 1.0));
                     }

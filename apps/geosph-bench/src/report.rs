@@ -73,7 +73,7 @@ pub fn plot(path: &Path, case: Case, outcomes: &[Outcome]) -> Result<(), geosph_
     let mut groups: Vec<(String, Vec<Real>, Vec<Real>)> = Vec::new();
     for &i in &runs {
         let c = &outcomes[i].config;
-        let label = if c.variant == "default" || c.variant == "molteni" {
+        let label = if c.variant == "default" || c.variant == "fourtakas" {
             format!("{} {}", c.solver, c.kernel)
         } else {
             format!("{}+{} {}", c.solver, c.variant, c.kernel)

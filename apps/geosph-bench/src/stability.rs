@@ -71,7 +71,7 @@ pub fn largest_time_step_factor(
             solver,
             kernel,
             variant: if solver == "wcsph" {
-                "molteni"
+                "default"
             } else {
                 "default"
             },

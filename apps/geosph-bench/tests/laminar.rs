@@ -11,7 +11,7 @@ fn profile_error(case: Case, solver: &'static str) -> f64 {
         solver,
         kernel: "wendland-c2",
         variant: if solver == "wcsph" {
-            "molteni"
+            "default"
         } else {
             "default"
         },

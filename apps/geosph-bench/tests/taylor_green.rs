@@ -13,7 +13,7 @@ fn run(dx: f64) -> (f64, f64) {
         case: Case::TaylorGreen,
         solver: "wcsph",
         kernel: "wendland-c2",
-        variant: "molteni",
+        variant: "default",
         dx,
         dt_factor: 1.0,
     };
