@@ -26,6 +26,9 @@ pub enum Case {
     Hydrostatic,
     /// Martin & Moyce's 2D dam break, column 1 m × 2 m.
     DamBreak,
+    /// The dam break against a wall of Lobovsky et al. (2014), H = 0.3 m, three gauges
+    /// (`data/scenes/lobovsky-wall-pressure.ron`).
+    WallPressure,
     /// Bui et al.'s (2008) granular column collapse, 0.2 m × 0.1 m.
     Collapse,
     /// A level elastic soil layer 0.1 m deep, periodic over 0.2 m, under gravity (geostatic
@@ -35,12 +38,13 @@ pub enum Case {
 
 impl Case {
     /// Every case, in report order.
-    pub const ALL: [Case; 7] = [
+    pub const ALL: [Case; 8] = [
         Case::TaylorGreen,
         Case::Poiseuille,
         Case::Couette,
         Case::Hydrostatic,
         Case::DamBreak,
+        Case::WallPressure,
         Case::Collapse,
         Case::K0Column,
     ];
@@ -53,6 +57,7 @@ impl Case {
             Case::Couette => Flow::Couette.name(),
             Case::Hydrostatic => "hydrostatic",
             Case::DamBreak => "dam-break",
+            Case::WallPressure => "wall-pressure",
             Case::Collapse => "collapse",
             Case::K0Column => "k0-column",
         }
@@ -81,6 +86,8 @@ impl Case {
             (Case::Hydrostatic, true) => 0.4,
             (Case::DamBreak, false) => 0.5,
             (Case::DamBreak, true) => 0.3,
+            // t√(g/H) = 5.72, past the plateau's end 5.5.
+            (Case::WallPressure, _) => 1.0,
             (Case::Collapse, false) => 1.0,
             (Case::Collapse, true) => 0.15,
             (Case::K0Column, _) => 0.01,
@@ -108,6 +115,12 @@ impl Case {
                 "mean of the RMS differences from Martin & Moyce (1952) of the front Z = z/a \
                  against T = t√(2g/a) and of the column height H/(2a) against T = t√(g/a), over \
                  the measured points within the run"
+            }
+            Case::WallPressure => {
+                "mean over the three gauges of |p̄ − p̄_exp|/(ρgH), p̄ the raw gauge's mean over \
+                 the plateau t√(g/H) = 3–5.5 against Lobovsky et al.'s (2014); the value column \
+                 is the mean scatter of the raw signals about their running mean (window 0.1 \
+                 in t√(g/H)) on the plateau, in ρgH"
             }
             Case::Collapse => {
                 "|L_f − L_f,finest|/L: runout L_f (the deposit toe, 0.1 H thick) at the end time against that of the finest run \
@@ -147,6 +160,9 @@ impl Case {
             Case::DamBreak => {
                 Scene::from_ron(include_str!("../../../data/scenes/dam-break-2d.ron"))
             }
+            Case::WallPressure => Scene::from_ron(include_str!(
+                "../../../data/scenes/lobovsky-wall-pressure.ron"
+            )),
             Case::Collapse => {
                 Scene::from_ron(include_str!("../../../data/scenes/granular-collapse.ron"))
             }
@@ -226,6 +242,25 @@ impl Case {
                 }
                 let error = 0.5 * (validation.front_rms + validation.height_rms);
                 (report.summary, validation.front_rms, error)
+            }
+            Case::WallPressure => {
+                let report = dam_break::run(&scene, &options).map_err(|e| e.to_string())?;
+                let comparison = report
+                    .wall_pressure
+                    .ok_or("not Lobovsky et al.'s set-up with gauges")?;
+                let count = comparison.gauges.len() as Real;
+                let mut plateau_error = 0.0;
+                let mut scatter = 0.0;
+                for gauge in &comparison.gauges {
+                    let (Some(sim), Some(exp), Some(noise)) =
+                        (gauge.plateau.0, gauge.plateau.1, gauge.scatter)
+                    else {
+                        return Err("the run does not cover the plateau".into());
+                    };
+                    plateau_error += (sim - exp).abs() / count;
+                    scatter += noise / count;
+                }
+                (report.summary, scatter, plateau_error)
             }
             Case::Collapse => {
                 let report = slope_failure::run(&scene, &options).map_err(|e| e.to_string())?;

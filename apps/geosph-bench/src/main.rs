@@ -24,7 +24,8 @@ struct Cli {
     /// Run the stability map (time-step bisection and stress cases) instead of the matrix.
     #[arg(long)]
     stability: bool,
-    /// Only these cases (taylor-green, poiseuille, couette, hydrostatic, dam-break, collapse, k0-column).
+    /// Only these cases (taylor-green, poiseuille, couette, hydrostatic, dam-break, wall-pressure,
+    /// collapse, k0-column).
     #[arg(long = "case", value_parser = parse_case)]
     cases: Vec<Case>,
     /// Output folder: the report (`benchmarks.md` or `stability.md`), the CSV and `img/`

@@ -24,6 +24,8 @@ pub fn resolutions(case: Case, quick: bool) -> Vec<Real> {
         (Case::Hydrostatic, true) => vec![0.1, 0.0625, 0.05],
         (Case::DamBreak, false) => vec![0.05, 0.025, 0.0125],
         (Case::DamBreak, true) => vec![0.1, 0.0625, 0.05],
+        (Case::WallPressure, false) => vec![0.015, 0.01, 0.005],
+        (Case::WallPressure, true) => vec![0.03, 0.02, 0.015],
         (Case::Collapse, false) => vec![0.01, 0.005, 0.0025],
         (Case::Collapse, true) => vec![0.02, 0.0125, 0.01],
         (Case::K0Column, false) => vec![0.01, 0.005, 0.0025],

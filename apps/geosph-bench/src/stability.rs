@@ -70,11 +70,7 @@ pub fn largest_time_step_factor(
             case,
             solver,
             kernel,
-            variant: if solver == "wcsph" {
-                "default"
-            } else {
-                "default"
-            },
+            variant: "default",
             dx,
             dt_factor,
         };

@@ -10,11 +10,7 @@ fn profile_error(case: Case, solver: &'static str) -> f64 {
         case,
         solver,
         kernel: "wendland-c2",
-        variant: if solver == "wcsph" {
-            "default"
-        } else {
-            "default"
-        },
+        variant: "default",
         dx: 5e-5,
         dt_factor: 1.0,
     };
