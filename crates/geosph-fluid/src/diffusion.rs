@@ -255,3 +255,45 @@ impl<const D: usize> DiffusionTerm<D> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pair in hydrostatic equilibrium, i one spacing below j: Fourtakas et al.'s term is
+    /// zero, Molteni's lowers the deeper particle's density.
+    #[test]
+    fn hydrostatic_pair_is_not_diffused() {
+        let (rho0, c0, h, dx) = (1000.0, 20.0, 0.013, 0.01);
+        let gravity = Vector::<2>::new(0.0, -9.81);
+        let r_ij = Vector::<2>::new(0.0, -dx);
+        // ρ_i − ρ_j = ρ₀ g dx / c₀² for the linear equation of state.
+        let rho_j = rho0;
+        let rho_i = rho_j + rho0 * 9.81 * dx / (c0 * c0);
+        let r2: Real = dx * dx;
+        let pair = Pair {
+            r_ij,
+            r2,
+            inv_r2_eta2: 1.0 / (r2 + 0.01 * h * h),
+            // ∇_i W_ij points along −x_ij for a decreasing kernel.
+            grad: -r_ij * 100.0,
+            v_ij: Vector::zeros(),
+            rho_i,
+            rho_j,
+            mass_j: rho0 * dx * dx,
+        };
+        let molteni = DeltaMolteni2009 {
+            delta: 0.1,
+            smoothing_length: h,
+            sound_speed: c0,
+        };
+        let fourtakas = DeltaFourtakas2019 {
+            base: molteni,
+            hydrostatic_gradient: gravity * (rho0 / (c0 * c0)),
+        };
+        let volume = dx * dx;
+        assert!(DensityDiffusion::<2>::rate(&molteni, 0, 1, &pair, volume) < 0.0);
+        let rate = DensityDiffusion::<2>::rate(&fourtakas, 0, 1, &pair, volume);
+        assert!(rate.abs() < 1e-12, "{rate}");
+    }
+}

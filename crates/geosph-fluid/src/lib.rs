@@ -2,7 +2,8 @@
 //! lists, viscous terms).
 //!
 //! Modules:
-//! - [`diffusion`]: δ-SPH density diffusion (Molteni & Colagrossi 2009, Antuono et al. 2010).
+//! - [`diffusion`]: δ-SPH density diffusion (Molteni & Colagrossi 2009, Antuono et al. 2010,
+//!   Fourtakas et al. 2019, the default).
 //! - [`wcsph`]: the weakly compressible SPH system ([`WcsphSystem`]): symmetric momentum,
 //!   continuity or summation density, XSPH, Shepard re-initialisation, Adami walls.
 //! - [`incompressible`]: PCISPH, IISPH and DFSPH on shared operators ([`incompressible::PressureSystem`]).
