@@ -300,19 +300,8 @@ fn pressure_probes_read_the_hydrostatic_start() {
         ..Default::default()
     };
     run(&scene, &options, &mut geosph_runner::NoObserver).unwrap();
-    let csv = std::fs::read_to_string(out.join("diagnostics.csv")).unwrap();
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let column = |name: &str| {
-        header
-            .iter()
-            .position(|&c| c == name)
-            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
-    };
+    let (column, rows) = diagnostics(&out);
     let (mid, dry) = (column("p_mid"), column("p_dry"));
-    let rows: Vec<Vec<Real>> = lines
-        .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
     assert_eq!(rows.len(), 3, "samples at t = 0, 0.005 and 0.01 s");
     let expected = 1000.0 * 9.81 * (0.4 - 0.21);
     assert!(
@@ -343,17 +332,10 @@ fn still_tank_bed_pressure_is_steady_from_sample_to_sample() {
         ..Default::default()
     };
     run(&scene, &options, &mut geosph_runner::NoObserver).unwrap();
-    let csv = std::fs::read_to_string(out.join("diagnostics.csv")).unwrap();
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let column = |name: &str| header.iter().position(|&c| c == name).unwrap();
+    let (column, rows) = diagnostics(&out);
     let (time, bed) = (column("time"), column("p_bed"));
-    let pressure: Vec<Real> = lines
-        .map(|line| {
-            line.split(',')
-                .map(|v| v.parse().unwrap())
-                .collect::<Vec<Real>>()
-        })
+    let pressure: Vec<Real> = rows
+        .into_iter()
         .filter(|row| row[time] >= 1.0)
         .map(|row| row[bed])
         .collect();
@@ -368,4 +350,26 @@ fn still_tank_bed_pressure_is_steady_from_sample_to_sample() {
         100.0 * largest
     );
     assert!(largest < 0.01, "{:.2} % of ρ₀gH", 100.0 * largest);
+}
+
+/// `diagnostics.csv` of the run in `out`: a column lookup by name and the rows as numbers.
+fn diagnostics(out: &std::path::Path) -> (impl Fn(&str) -> usize, Vec<Vec<Real>>) {
+    let csv = std::fs::read_to_string(out.join("diagnostics.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let rows = lines
+        .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let column = move |name: &str| {
+        header
+            .iter()
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+    };
+    (column, rows)
 }

@@ -17,8 +17,9 @@ use geosph_io::{PlotSpec, Series, line_plot_png};
 use geosph_runner::{PressureProbes, push_records, take_records};
 use geosph_scene::{ProbeSpec, Scene};
 
+use crate::Column;
+use crate::martin_moyce::{downward_gravity, interpolate, tank_at_column};
 use crate::reference::{ReferenceCurve, lobovsky_wall_pressure};
-use crate::{Column, downward_gravity, tank_at_column};
 
 /// Lobovsky et al.'s sensors on the downstream wall: name and height above the bed as a
 /// fraction of the water depth H = 0.3 m (3, 30 and 80 mm), in the order of
@@ -141,7 +142,10 @@ impl WallGauges {
     pub fn restore(&mut self, state: &mut &[Real]) -> Result<(), String> {
         for k in 0..self.pressure.len() {
             let records = take_records::<2>(state)?;
-            self.time = records.iter().map(|r| r[0]).collect();
+            // Every gauge was saved with the same sample times.
+            if k == 0 {
+                self.time = records.iter().map(|r| r[0]).collect();
+            }
             self.pressure[k] = records.iter().map(|r| r[1]).collect();
         }
         Ok(())
@@ -300,15 +304,8 @@ fn curve_mean(curve: &ReferenceCurve, (a, b): (Real, Real)) -> Option<Real> {
     if x.first().is_none_or(|&x0| x0 > a) || x.last().is_none_or(|&x1| x1 < b) {
         return None;
     }
-    let at = |s: Real| {
-        let k = x.partition_point(|&xk| xk <= s).clamp(1, x.len() - 1);
-        let (x0, x1) = (x[k - 1], x[k]);
-        if x1 == x0 {
-            y[k]
-        } else {
-            y[k - 1] + (y[k] - y[k - 1]) * (s - x0) / (x1 - x0)
-        }
-    };
+    // Covered, so the interpolant exists at every knot.
+    let at = |s: Real| interpolate(x, y, s).unwrap_or(Real::NAN);
     let mut knots: Vec<Real> = x.iter().copied().filter(|&s| s > a && s < b).collect();
     knots.insert(0, a);
     knots.push(b);
