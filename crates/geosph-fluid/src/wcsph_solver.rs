@@ -4,7 +4,8 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_sph::{
-    Solver, SolverError, SolverState, StepReport, density_errors, event_step, max_speed,
+    Solver, SolverError, SolverState, StepReport, density_errors, event_step, keep_out_of_walls,
+    max_speed,
 };
 use geosph_time::{Integrator, Rates, StepLimits, time_step};
 
@@ -73,6 +74,13 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         let dt = event_step(time_step(&limits), max_dt);
         self.system.time_step = dt;
         self.integrator.step(&mut self.system, fluid, time, dt)?;
+        let wall_contacts = keep_out_of_walls(
+            &self.system.lists,
+            &self.system.kernel,
+            &self.system.walls,
+            &mut fluid.position,
+            &mut fluid.velocity,
+        );
         self.steps += 1;
         let (mean, max) = density_errors(&fluid.density, self.system.eos.rest_density);
         Ok(StepReport {
@@ -81,6 +89,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             divergence_iterations: 0,
             density_error_mean: mean,
             density_error_max: max,
+            wall_contacts,
         })
     }
 

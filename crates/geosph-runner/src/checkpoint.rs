@@ -25,8 +25,8 @@ pub const FILE_NAME: &str = "checkpoint.bin";
 
 /// Version of the file layout; a checkpoint of another version is refused. Version 2 added
 /// the particles that left the domain to [`Progress`], version 3 the report of the solver's
-/// stage before t = 0.
-pub const FORMAT_VERSION: u32 = 3;
+/// stage before t = 0, version 4 the wall contacts.
+pub const FORMAT_VERSION: u32 = 4;
 
 const MAGIC: &[u8; 8] = b"GEOSPHCP";
 const HEADER_LEN: usize = 8 + 4 + 8 + 4;
@@ -94,6 +94,11 @@ pub struct Progress {
     pub escaped_mass: Real,
     /// Simulated time at which the first of them was removed, s.
     pub first_escape: Option<Real>,
+    /// Particle-steps that ended behind a wall's surface and were put back on it
+    /// ([`geosph_sph::keep_out_of_walls`]).
+    pub wall_contacts: u64,
+    /// Simulated time of the first of them, s.
+    pub first_wall_contact: Option<Real>,
     /// What the solver's stage before t = 0 reached ([`geosph_sph::Solver::initial_stage`]).
     pub stage: Option<geosph_sph::StageReport>,
 }

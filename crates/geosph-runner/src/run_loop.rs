@@ -208,6 +208,10 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         state.density_error_sum += report.density_error_mean;
         state.iterations += report.iterations as u64;
         state.divergence_iterations += report.divergence_iterations as u64;
+        if report.wall_contacts > 0 {
+            state.wall_contacts += report.wall_contacts as u64;
+            state.first_wall_contact.get_or_insert(time);
+        }
         if time >= self.next_sample - self.tolerance {
             self.sample(time, steps, &report)?;
             self.state.samples += 1;
@@ -428,6 +432,8 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             escaped_mass_fraction: state.escaped_mass
                 / (fluid.mass.iter().sum::<Real>() + state.escaped_mass),
             first_escape: state.first_escape,
+            wall_contacts: state.wall_contacts as usize,
+            first_wall_contact: state.first_wall_contact,
             stage: state.stage.clone(),
         })
     }

@@ -47,6 +47,11 @@ pub struct Summary {
     pub escaped_mass_fraction: Real,
     /// Simulated time at which the first of them was removed, s.
     pub first_escape: Option<Real>,
+    /// Particle-steps that ended behind a wall's surface and were put back on it
+    /// ([`geosph_sph::keep_out_of_walls`]); 0 where the walls held by pressure.
+    pub wall_contacts: usize,
+    /// Simulated time of the first of them, s.
+    pub first_wall_contact: Option<Real>,
     /// The stage the solver ran before t = 0 ([`geosph_sph::Solver::initial_stage`]; the soil's
     /// geostatic stage), also after a restart from a checkpoint written after it.
     pub stage: Option<StageReport>,
@@ -98,6 +103,14 @@ impl std::fmt::Display for Summary {
                 "escaped            {} particles ({:.3} % of the mass), first at t = {first:.3} s",
                 self.escaped,
                 100.0 * self.escaped_mass_fraction
+            )?;
+        }
+        if let Some(first) = self.first_wall_contact {
+            writeln!(
+                f,
+                "wall contacts      {} particle-steps put back on a wall's surface, first at t = {first:.3} s \
+                 (the walls' pressure alone did not stop them: docs/fluid.md, \"Walls that hold\")",
+                self.wall_contacts
             )?;
         }
         if let Some(stage) = &self.stage {

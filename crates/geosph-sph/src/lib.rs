@@ -19,6 +19,7 @@
 //! - [`density_error`]: the density-error reductions, in a fixed order.
 //! - [`lattice`]: kernel sums and gradient calibration on the initial lattice.
 //! - [`shifting`]: δ⁺-SPH particle shifting with free-surface detection.
+//! - [`wall_contact`]: [`keep_out_of_walls`], no particle ends a step behind a wall's surface.
 #![warn(missing_docs)]
 
 pub mod config_error;
@@ -32,6 +33,7 @@ pub mod shifting;
 pub mod solver;
 pub mod state;
 pub mod viscosity;
+pub mod wall_contact;
 
 pub use config_error::ConfigError;
 pub use density_error::{compression, density_errors};
@@ -45,3 +47,4 @@ pub use viscosity::{
     ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Pair, Viscosity, ViscousTerm,
     ViscousVisitor,
 };
+pub use wall_contact::keep_out_of_walls;

@@ -306,12 +306,25 @@ impl<const D: usize> PairLists<D> {
         position: &[Vector<D>],
         wall_position: &[Vector<D>],
         i: usize,
+        visit: impl FnMut(Neighbour<D>),
+    ) {
+        self.for_each_wall_at(kernel, &position[i], i, wall_position, visit);
+    }
+
+    /// [`PairLists::for_each_wall`] for particle `i` placed at `x_i` (a position being
+    /// corrected, not yet written back).
+    #[inline(always)]
+    pub fn for_each_wall_at<K: Kernel<D>>(
+        &self,
+        kernel: &K,
+        x_i: &Vector<D>,
+        i: usize,
+        wall_position: &[Vector<D>],
         mut visit: impl FnMut(Neighbour<D>),
     ) {
-        let x_i = position[i];
         for &w in self.contact.neighbours(i) {
             let w = w as usize;
-            if let Some(pair) = self.pair(kernel, &x_i, w, &wall_position[w]) {
+            if let Some(pair) = self.pair(kernel, x_i, w, &wall_position[w]) {
                 visit(pair);
             }
         }

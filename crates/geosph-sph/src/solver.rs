@@ -22,6 +22,9 @@ pub struct StepReport {
     pub density_error_mean: Real,
     /// Largest relative density error.
     pub density_error_max: Real,
+    /// Particles that ended the step behind a wall's surface and were put back on it
+    /// ([`keep_out_of_walls`](crate::keep_out_of_walls)); 0 where the walls held by pressure.
+    pub wall_contacts: usize,
 }
 
 /// Why a step failed.

@@ -36,7 +36,7 @@ use geosph_sph::lattice::{
 };
 use geosph_sph::{
     ShiftingInput, Solver, SolverError, SolverState, StateArrays, StateError, StepReport,
-    compression, event_step, max_speed,
+    compression, event_step, keep_out_of_walls, max_speed,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -325,6 +325,13 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
                 .zip(fluid.velocity.par_iter())
                 .for_each(|(x, v)| *x += v * dt);
         }
+        let wall_contacts = keep_out_of_walls(
+            &self.system.lists,
+            &self.system.kernel,
+            &self.system.walls,
+            &mut fluid.position,
+            &mut fluid.velocity,
+        );
         // Largest |Δv|/Δt of this step, for the next step's limit (ordered, thread-independent).
         self.max_acceleration = fluid
             .velocity
@@ -349,6 +356,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
             divergence_iterations: divergence_solve.iterations,
             density_error_mean: mean,
             density_error_max: max,
+            wall_contacts,
         })
     }
 

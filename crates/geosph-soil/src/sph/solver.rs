@@ -157,6 +157,8 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
             divergence_iterations: 0,
             density_error_mean: mean,
             density_error_max: max,
+            // Soil walls hold by Coulomb contact and Bui's boundary stress (docs/soil.md).
+            wall_contacts: 0,
         })
     }
 

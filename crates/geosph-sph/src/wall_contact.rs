@@ -1,0 +1,113 @@
+//! The last line of defence of dummy-particle walls: no particle ends a step behind a wall's
+//! surface.
+
+use geosph_boundary::WallParticles;
+use geosph_core::{Real, Vector};
+use geosph_kernels::Kernel;
+use rayon::prelude::*;
+
+use crate::PairLists;
+
+/// Moves every particle that ended a step behind a wall's surface back onto it and removes
+/// the part of its velocity that points into the wall; returns how many it moved.
+///
+/// Dummy particles stop the flow by pressure alone (Adami, Hu & Adams 2012), and a pressure
+/// needs compression to build up: a spray particle that reaches a wall below the rest density
+/// (the pressure solvers carry no suction at a free surface), or one drawn in by a slightly
+/// negative pressure next to the wall (WCSPH), can drift through the surface. The surface near
+/// particle i is that of its nearest wall particle w, the plane through x_w + d_w n_w with the
+/// inward normal n_w and the depth d_w of [`WallParticles`]; the particle is behind it when
+///
+/// φ_i = (x_i − x_w)·n_w − d_w < 0,
+///
+/// and then x_i ← x_i − φ_i n_w and v_i ← v_i − min((v_i − u_w)·n_w, 0) n_w (an inelastic
+/// contact, as the collision handling of particle fluids: Ihmsen et al. 2014, Eurographics
+/// STAR). A run whose walls hold by pressure never reaches it: the runner reports the
+/// count, so that a run where it acts is known (`docs/fluid.md`, "Walls that hold").
+///
+/// Reads the wall lists of `lists`, valid for positions within the Verlet skin of their
+/// build (any position after one step). Each particle is corrected from its own neighbours,
+/// so the result does not depend on the thread count.
+pub fn keep_out_of_walls<const D: usize, K: Kernel<D>>(
+    lists: &PairLists<D>,
+    kernel: &K,
+    walls: &WallParticles<D>,
+    position: &mut [Vector<D>],
+    velocity: &mut [Vector<D>],
+) -> usize {
+    if walls.is_empty() {
+        return 0;
+    }
+    position
+        .par_iter_mut()
+        .zip(velocity.par_iter_mut())
+        .enumerate()
+        .with_min_len(256)
+        .map(|(i, (x, v))| {
+            let mut nearest: Option<(Real, usize, Real)> = None;
+            lists.for_each_wall_at(kernel, x, i, &walls.position, |pair| {
+                let w = pair.index;
+                if nearest.is_none_or(|(r2, _, _)| pair.r2 < r2) {
+                    let behind = pair.r_ij.dot(&walls.normal[w]) - walls.depth[w];
+                    nearest = Some((pair.r2, w, behind));
+                }
+            });
+            match nearest {
+                Some((_, w, behind)) if behind < 0.0 => {
+                    let normal = walls.normal[w];
+                    *x -= normal * behind;
+                    let into = (*v - walls.velocity[w]).dot(&normal);
+                    if into < 0.0 {
+                        *v -= normal * into;
+                    }
+                    1
+                }
+                _ => 0,
+            }
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geosph_boundary::generate::tank;
+    use geosph_core::Domain;
+    use geosph_kernels::WendlandC2;
+
+    #[test]
+    fn a_particle_behind_a_tank_face_is_put_back_on_it_and_stopped() {
+        let dx = 0.1;
+        let walls = tank(
+            &Vector::<2>::new(0.0, 0.0),
+            &Vector::<2>::new(1.0, 1.0),
+            dx,
+            3,
+            false,
+            1000.0,
+        );
+        let kernel = WendlandC2::<2>::new(1.3 * dx);
+        let domain = Domain::new(Vector::<2>::repeat(-0.5), Vector::<2>::repeat(1.5)).unwrap();
+        // Behind the left face, on it, and well inside the tank.
+        let mut position = vec![
+            Vector::<2>::new(-0.02, 0.5),
+            Vector::<2>::new(0.0, 0.3),
+            Vector::<2>::new(0.5, 0.5),
+        ];
+        let mut velocity = vec![
+            Vector::<2>::new(-3.0, 1.0),
+            Vector::<2>::new(-1.0, 0.0),
+            Vector::<2>::new(-1.0, 0.0),
+        ];
+        let mut lists =
+            PairLists::new(domain, kernel.support_radius(), 0.1, &walls.position, false).unwrap();
+        lists.update(&mut position, &walls.position).unwrap();
+        let moved = keep_out_of_walls(&lists, &kernel, &walls, &mut position, &mut velocity);
+        assert_eq!(moved, 1);
+        approx::assert_abs_diff_eq!(position[0], Vector::<2>::new(0.0, 0.5), epsilon = 1e-15);
+        // The normal velocity into the wall is removed, the tangential one kept.
+        approx::assert_abs_diff_eq!(velocity[0], Vector::<2>::new(0.0, 1.0), epsilon = 1e-15);
+        assert_eq!(velocity[1], Vector::<2>::new(-1.0, 0.0));
+        assert_eq!(position[2], Vector::<2>::new(0.5, 0.5));
+    }
+}
