@@ -306,6 +306,11 @@ pub struct IncompressibleConfig {
     /// Let pressures go negative (default false): for flows without a free surface only
     /// (periodic or confined, e.g. a vortex), where suction is physical.
     pub negative_pressure: bool,
+    /// Renormalise every pair gradient per particle (default false), so that divergences and
+    /// gradients of linear fields are exact on disordered particles
+    /// ([`PressureSystem::renormalise_gradients`]); only with `negative_pressure`, for flows
+    /// without a free surface.
+    pub renormalise_gradients: bool,
 }
 
 impl Default for IncompressibleConfig {
@@ -329,6 +334,7 @@ impl Default for IncompressibleConfig {
             reorder_every: 100,
             shifting: None,
             negative_pressure: settings.negative_pressure,
+            renormalise_gradients: false,
         }
     }
 }
@@ -365,6 +371,14 @@ impl IncompressibleConfig {
             positive("max_time_step", dt)?;
         }
         in_range("relaxation", self.relaxation, 0.05, 1.0)?;
+        if self.renormalise_gradients && !self.negative_pressure {
+            return Err(ConfigError::new(
+                "renormalise_gradients",
+                "needs `negative_pressure: true`: it is for flows without a free surface, where \
+                 the renormalisation matrix of a surface particle is singular"
+                    .to_owned(),
+            ));
+        }
         if let Some(shifting) = &self.shifting {
             shifting.validate("shifting")?;
         }
@@ -553,6 +567,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
             config.wall_pressure,
         )?;
         system.shifting = config.shifting;
+        system.renormalise_gradients = config.renormalise_gradients;
         let settings = PressureSolveSettings {
             target_density_error: config.target_density_error,
             max_compression: config.max_compression,
@@ -565,5 +580,29 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
         let mut solver = Incompressible::new(system, method, settings, setup.spacing, self.fluid)?;
         solver.system.lists.reorder_every = config.reorder_every;
         Ok(Box::new(solver))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renormalised_gradients_need_a_flow_without_a_free_surface() {
+        let free_surface = IncompressibleConfig {
+            renormalise_gradients: true,
+            ..Default::default()
+        };
+        let message = free_surface.validate().unwrap_err().to_string();
+        assert!(
+            message.contains("renormalise_gradients") && message.contains("negative_pressure"),
+            "{message}"
+        );
+        let confined = IncompressibleConfig {
+            renormalise_gradients: true,
+            negative_pressure: true,
+            ..Default::default()
+        };
+        assert!(confined.validate().is_ok());
     }
 }

@@ -3,7 +3,7 @@
 //! pressure system.
 
 use geosph_boundary::WallParticles;
-use geosph_core::{Domain, NeighbourList, Particles, Real, Vector};
+use geosph_core::{Domain, Matrix, NeighbourList, Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::pair_arrays::{ParticleView, for_each_particle};
@@ -74,6 +74,16 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>> {
     /// 1/f of [`lattice_gradient_factor`](geosph_sph::lattice::lattice_gradient_factor), so
     /// that the pressure force of a linear pressure field on the initial lattice is exact.
     pub gradient_correction: Real,
+    /// Replace every pair gradient of particle i by the renormalised c⁻¹ L_i ∇_i W_ij (off:
+    /// false), with L_i = (Σ_j V_j x_ji ⊗ ∇_i W_ij)⁻¹ over fluid and wall neighbours,
+    /// V = m/ρ₀ (Randles & Libersky 1996; Bonet & Lok 1999, eq. 43): the divergence and
+    /// gradient of any linear field are then exact on any particle arrangement, not only on
+    /// the lattice that `gradient_correction` c is calibrated on (where L_i = c I, so nothing
+    /// changes there). Pair forces are no longer antisymmetric, so momentum is conserved only
+    /// to the truncation error; and where the support is cut by a free surface L_i is
+    /// ill-conditioned, so it is for flows without one (`docs/incompressible.md`, "The
+    /// Taylor–Green vortex").
+    pub renormalise_gradients: bool,
     /// λ_max of [`lattice_jacobi_bound`](geosph_sph::lattice::lattice_jacobi_bound) for the
     /// kernel and spacing (set by the solvers; 0: unknown, no limit), which bounds the
     /// relaxation of the Jacobi solves
@@ -118,6 +128,7 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
             wall_pressure,
             shifting: None,
             gradient_correction: 1.0,
+            renormalise_gradients: false,
             jacobi_bound: 0.0,
             lattice_gradient_squares: 0.0,
             fluid_gradient: Vec::new(),
@@ -154,6 +165,7 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
         self.diagonal.resize(fluid.len(), 0.0);
         let (kernel, domain, rho0) = (self.kernel, self.lists.domain(), self.rest_density);
         let (walls, correction) = (&self.walls, self.gradient_correction);
+        let renormalise = self.renormalise_gradients;
         let floor = DIAGONAL_FLOOR * correction * self.lattice_gradient_squares;
         let Particles {
             position,
@@ -197,6 +209,31 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
                     *gradient = r_ib * kernel.gradient_factor(r);
                     rho += m_b * kernel.value(r);
                     wall_sum += *gradient * m_b;
+                }
+                if renormalise {
+                    // L_i from the gradients just stored, then the sums again with L_i ∇W.
+                    let mut moment = Matrix::<D>::zeros();
+                    for (&j, gradient) in view.fluid.iter().zip(view.fluid_values.iter()) {
+                        let x_ji = domain.displacement(&position[j as usize], &x_i);
+                        moment += x_ji * gradient.transpose() * (mass[j as usize] / rho0);
+                    }
+                    for (&b, gradient) in view.wall.iter().zip(view.wall_values.iter()) {
+                        let x_bi = domain.displacement(&walls.position[b as usize], &x_i);
+                        moment += x_bi * gradient.transpose() * walls.volume[b as usize];
+                    }
+                    if let Some(inverse) = moment.try_inverse() {
+                        let renormalised = inverse / correction;
+                        (fluid_sum, squares, wall_sum) = (Vector::zeros(), 0.0, Vector::zeros());
+                        for (&j, gradient) in view.fluid.iter().zip(view.fluid_values.iter_mut()) {
+                            *gradient = renormalised * *gradient;
+                            fluid_sum += *gradient * mass[j as usize];
+                            squares += mass[j as usize] * gradient.norm_squared();
+                        }
+                        for (&b, gradient) in view.wall.iter().zip(view.wall_values.iter_mut()) {
+                            *gradient = renormalised * *gradient;
+                            wall_sum += *gradient * (rho0 * walls.volume[b as usize]);
+                        }
+                    }
                 }
                 let (density, diagonal, wall_gradient_sum) = view.own;
                 *density = rho;
