@@ -76,7 +76,7 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>> {
     pub gradient_correction: Real,
     /// Replace every pair gradient of particle i by the renormalised c⁻¹ L_i ∇_i W_ij (off:
     /// false), with L_i = (Σ_j V_j x_ji ⊗ ∇_i W_ij)⁻¹ over fluid and wall neighbours,
-    /// V = m/ρ₀ (Randles & Libersky 1996; Bonet & Lok 1999, eq. 43): the divergence and
+    /// V = m/ρ₀ (Randles & Libersky 1996; Bonet & Lok 1999): the divergence and
     /// gradient of any linear field are then exact on any particle arrangement, not only on
     /// the lattice that `gradient_correction` c is calibrated on (where L_i = c I, so nothing
     /// changes there). Pair forces are no longer antisymmetric, so momentum is conserved only
