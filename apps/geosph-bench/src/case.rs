@@ -389,13 +389,14 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
                 incompressible.viscosity = laminar;
                 incompressible.negative_pressure = true;
                 incompressible.shifting = Some(ParticleShifting::default());
-                // Exact divergences on the disordered particles, and for DFSPH a projection
-                // of the velocity divergence alone, tightly: the density solve would chase the
+                // DFSPH: exact divergences on the disordered particles and a projection of
+                // the velocity divergence alone, tightly: the density solve would chase the
                 // summation density's scatter on those particles, which is not compression
                 // (docs/incompressible.md, "The Taylor–Green vortex"); it only bounds the
-                // compression at 3 %.
-                incompressible.renormalise_gradients = true;
+                // compression at 3 %. PCISPH and IISPH have only the density solve, where
+                // renormalising makes more runs blow up.
                 if config.solver == "dfsph" {
+                    incompressible.renormalise_gradients = true;
                     incompressible.target_density_error = 0.03;
                     incompressible.min_iterations = 0;
                     incompressible.target_divergence_error = 1e-6;
