@@ -94,6 +94,15 @@ impl Column {
     pub fn height_time_scale(&self) -> Real {
         (self.gravity / self.width).sqrt()
     }
+
+    /// The front of `samples` in Martin & Moyce's variables: T = t √(2g/a) and Z = x/a.
+    pub fn front_curve(&self, samples: &[Sample]) -> (Vec<Real>, Vec<Real>) {
+        let scale = self.front_time_scale();
+        samples
+            .iter()
+            .map(|s| (s.time * scale, s.front / self.width))
+            .unzip()
+    }
 }
 
 /// One sample of the flow: time, front position and column height at the wall.
@@ -326,11 +335,7 @@ fn write_outputs(
         &["t", "x_front", "column_height"],
         samples.iter().map(|s| [s.time, s.front, s.height]),
     )?;
-    let t_front: Vec<Real> = samples
-        .iter()
-        .map(|s| s.time * column.front_time_scale())
-        .collect();
-    let z: Vec<Real> = samples.iter().map(|s| s.front / column.width).collect();
+    let (t_front, z) = column.front_curve(samples);
     let front_reference = martin_moyce_front();
     let t_max = match reference {
         true => 1.2 * front_reference.x.last().copied().unwrap_or(4.0),

@@ -117,19 +117,18 @@ fn compare(sim_x: &[Real], sim_y: &[Real], reference: &ReferenceCurve) -> (Real,
         .zip(&reference.y)
         .filter_map(|(&x, &y)| interpolate(sim_x, sim_y, x).map(|s| s - y))
         .collect();
-    let count = errors.len();
-    let rms = (errors.iter().map(|e| e * e).sum::<Real>() / count.max(1) as Real).sqrt();
     let max = errors.iter().fold(0.0, |m: Real, e| m.max(e.abs()));
-    (rms, max, count)
+    (rms(&errors), max, errors.len())
+}
+
+/// Root mean square of `errors` (0 for none).
+fn rms(errors: &[Real]) -> Real {
+    (errors.iter().map(|e| e * e).sum::<Real>() / errors.len().max(1) as Real).sqrt()
 }
 
 /// Scales the samples to Martin & Moyce's variables and compares them.
 pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
-    let t_front: Vec<Real> = samples
-        .iter()
-        .map(|s| s.time * column.front_time_scale())
-        .collect();
-    let z: Vec<Real> = samples.iter().map(|s| s.front / column.width).collect();
+    let (t_front, z) = column.front_curve(samples);
     let t_height: Vec<Real> = samples
         .iter()
         .map(|s| s.time * column.height_time_scale())
@@ -150,8 +149,7 @@ pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
         .zip(&reference_front.y)
         .filter_map(|(&t, &z_exp)| interpolate(&delayed, &z, t).map(|z| (z - z_exp) / z_exp))
         .collect();
-    let delayed_front_rms =
-        (relative.iter().map(|e| e * e).sum::<Real>() / relative.len().max(1) as Real).sqrt();
+    let delayed_front_rms = rms(&relative);
     let (height_rms, height_max, height_points) =
         compare(&t_height, &h, &martin_moyce_column_height());
     // Ritter's bound with a tolerance of one particle spacing for the front's discreteness.
