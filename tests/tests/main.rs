@@ -5,6 +5,7 @@ mod corrections;
 mod dam_break;
 mod determinism;
 mod escape;
+mod factor_of_safety;
 mod hostile_scenes;
 mod incompressible;
 mod kernels;

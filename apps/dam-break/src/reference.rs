@@ -1,43 +1,18 @@
 //! The experimental curves of Martin & Moyce (1952) and Lobovsky et al. (2014), embedded from
 //! `data/validation/`.
 
-use geosph_core::Real;
-
-/// A reference curve: points (x, y).
-#[derive(Clone, Debug, PartialEq)]
-pub struct ReferenceCurve {
-    /// Abscissae.
-    pub x: Vec<Real>,
-    /// Ordinates.
-    pub y: Vec<Real>,
-}
-
-/// Reads a two-column CSV with `#` comments and a header line.
-fn parse(text: &str) -> ReferenceCurve {
-    let mut curve = ReferenceCurve {
-        x: Vec::new(),
-        y: Vec::new(),
-    };
-    for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
-        let mut values = line.split(',').map(|v| v.trim().parse::<Real>());
-        if let (Some(Ok(x)), Some(Ok(y))) = (values.next(), values.next()) {
-            curve.x.push(x);
-            curve.y.push(y);
-        }
-    }
-    curve
-}
+pub use geosph_io::ReferenceCurve;
 
 /// Surge front Z = x/a against T = t √(2g/a) (Martin & Moyce 1952, Part IV, n² = 2).
 pub fn martin_moyce_front() -> ReferenceCurve {
-    parse(include_str!(
+    ReferenceCurve::from_csv(include_str!(
         "../../../data/validation/martin-moyce-1952-surge-front.csv"
     ))
 }
 
 /// Column height H = h/(2a) against τ = t √(g/a) (Martin & Moyce 1952, Part IV, n² = 2).
 pub fn martin_moyce_column_height() -> ReferenceCurve {
-    parse(include_str!(
+    ReferenceCurve::from_csv(include_str!(
         "../../../data/validation/martin-moyce-1952-column-height.csv"
     ))
 }
@@ -47,13 +22,13 @@ pub fn martin_moyce_column_height() -> ReferenceCurve {
 /// bed), 3 (30 mm) and 4 (80 mm) on the downstream wall, in that order.
 pub fn lobovsky_wall_pressure() -> [ReferenceCurve; 3] {
     [
-        parse(include_str!(
+        ReferenceCurve::from_csv(include_str!(
             "../../../data/validation/lobovsky-2014-sensor1-z3mm.csv"
         )),
-        parse(include_str!(
+        ReferenceCurve::from_csv(include_str!(
             "../../../data/validation/lobovsky-2014-sensor3-z30mm.csv"
         )),
-        parse(include_str!(
+        ReferenceCurve::from_csv(include_str!(
             "../../../data/validation/lobovsky-2014-sensor4-z80mm.csv"
         )),
     ]

@@ -1,8 +1,10 @@
 //! The slope-failure application: runs a soil scene (by default the granular column collapse of
 //! Bui et al. 2008) with the geosph runner, tracks the runout front and the height of the soil at
 //! the back wall, and writes `runout.csv`, `runout.png` (front and wall height against time),
-//! `deposit.csv` (the final position of every soil particle) and `deposit.png` (initial and
-//! final surface profiles) next to the runner's VTU frames.
+//! `deposit.csv` (the final position and displacement of every soil particle) and
+//! `deposit.png` (initial and final surface profiles, with the experiment's surface and failure
+//! line when the scene is the set-up of Bui et al. 2008, see [`bui2008`]) next to the runner's
+//! VTU frames.
 //!
 //! The column is the scene's first soil block (a box) with its back wall at the box's lower x;
 //! the soil runs out towards +x. `main.rs` is a thin command line around [`run`].
@@ -15,8 +17,17 @@ use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
 use geosph_runner::{Observer, RunOptions, Summary, push_records, take_records};
 use geosph_scene::{Region, Scene};
 
+pub mod bui2008;
+pub mod factor_of_safety;
+
+pub use bui2008::ExperimentComparison;
+
 /// The embedded default scene (`data/scenes/granular-collapse.ron`).
 pub const DEFAULT_SCENE: &str = include_str!("../../../data/scenes/granular-collapse.ron");
+
+/// The slope of Griffiths & Lane (1999) for `--factor-of-safety`
+/// (`data/scenes/homogeneous-slope.ron`; not a column, so not a scene [`run`] can measure).
+pub const SLOPE_SCENE: &str = include_str!("../../../data/scenes/homogeneous-slope.ron");
 
 /// The shipped scenes, by file name (also registered in the scene crate's parse test).
 pub const SCENES: [(&str, &str); 3] = [
@@ -50,6 +61,8 @@ pub enum Error {
 pub struct Column {
     /// x of the back wall (the column's left face).
     pub wall: Real,
+    /// Height of the column's base (the floor it stands on).
+    pub base: Real,
     /// Initial length L (along x).
     pub length: Real,
     /// Initial height H.
@@ -71,12 +84,15 @@ impl Column {
             .ok_or_else(|| Error::Scene("the scene has no soil block".into()))?;
         let Some(Region::Box { min, max }) = soil.blocks.first() else {
             return Err(Error::Scene(
-                "the first soil block must be a Box (the column)".into(),
+                "the first soil block must be a Box (the column whose runout this app measures; \
+                 for the factor of safety of another shape use --factor-of-safety)"
+                    .into(),
             ));
         };
         let up = scene.dimension - 1;
         Ok(Self {
             wall: min[0],
+            base: min[up],
             length: max[0] - min[0],
             height: max[up] - min[up],
             breadth: if scene.dimension == 3 {
@@ -181,6 +197,9 @@ pub struct RunoutTracker {
     pub initial: Vec<(Real, Real)>,
     /// (x, height) of every particle at the latest sample.
     pub latest: Vec<(Real, Real)>,
+    /// Displacement |u| of every particle since the release (t = 0) at the latest sample, in
+    /// the order of `latest` (zero for a scene without soil fields).
+    pub displacement: Vec<Real>,
 }
 
 impl RunoutTracker {
@@ -194,6 +213,7 @@ impl RunoutTracker {
             samples: Vec::new(),
             initial: Vec::new(),
             latest: Vec::new(),
+            displacement: Vec::new(),
         }
     }
 }
@@ -260,6 +280,13 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         });
         self.latest.clear();
         self.latest.extend(x.iter().map(|p| (p[0], p[up])));
+        self.displacement.clear();
+        match &soil.soil {
+            Some(fields) => self
+                .displacement
+                .extend(fields.displacement.iter().map(|u| u.norm())),
+            None => self.displacement.resize(x.len(), 0.0),
+        }
         if self.initial.is_empty() {
             self.initial.clone_from(&self.latest);
         }
@@ -271,6 +298,7 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         push_records(&mut state, samples.map(Sample::record));
         push_records(&mut state, self.initial.iter().map(|&(x, y)| [x, y]));
         push_records(&mut state, self.latest.iter().map(|&(x, y)| [x, y]));
+        push_records(&mut state, self.displacement.iter().map(|&u| [u]));
         state
     }
 
@@ -287,6 +315,7 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         };
         self.initial = points(&mut state)?;
         self.latest = points(&mut state)?;
+        self.displacement = take_records(&mut state)?.into_iter().map(|[u]| u).collect();
         Ok(())
     }
 }
@@ -304,6 +333,9 @@ pub struct Report {
     pub last: Sample,
     /// Largest kinetic energy of the run.
     pub peak_kinetic_energy: Real,
+    /// The deposit against the experiment of Bui et al. (2008), when the scene is its set-up
+    /// ([`bui2008::is_experiment`]).
+    pub experiment: Option<ExperimentComparison>,
 }
 
 impl std::fmt::Display for Report {
@@ -333,7 +365,11 @@ impl std::fmt::Display for Report {
             self.peak_kinetic_energy,
             self.last.kinetic_energy,
             self.last.kinetic_energy / self.peak_kinetic_energy.max(Real::MIN_POSITIVE)
-        )
+        )?;
+        if let Some(experiment) = &self.experiment {
+            write!(f, "\n{experiment}")?;
+        }
+        Ok(())
     }
 }
 
@@ -343,13 +379,23 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     let column = Column::of(scene)?;
     let mut tracker = RunoutTracker::new(column);
     let summary = geosph_runner::run(scene, options, &mut tracker)?;
-    if let Some(dir) = &options.out_dir {
-        write_outputs(dir, &column, &tracker)?;
-    }
-    let samples = tracker.samples;
-    let last = *samples
+    let last = *tracker
+        .samples
         .last()
         .ok_or_else(|| Error::Scene("the run produced no sample".into()))?;
+    let experiment = bui2008::is_experiment(scene, &column).then(|| {
+        ExperimentComparison::new(
+            &column,
+            &tracker.latest,
+            &tracker.displacement,
+            last.runout,
+            last.height_at_wall,
+        )
+    });
+    if let Some(dir) = &options.out_dir {
+        write_outputs(dir, &column, &tracker, experiment.as_ref())?;
+    }
+    let samples = tracker.samples;
     let peak_kinetic_energy = samples
         .iter()
         .map(|s| s.kinetic_energy)
@@ -360,6 +406,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
         samples,
         last,
         peak_kinetic_energy,
+        experiment,
     })
 }
 
@@ -376,7 +423,12 @@ pub fn surface_profile(points: &[(Real, Real)], spacing: Real) -> (Vec<Real>, Ve
         .unzip()
 }
 
-fn write_outputs(dir: &Path, column: &Column, tracker: &RunoutTracker) -> Result<(), Error> {
+fn write_outputs(
+    dir: &Path,
+    column: &Column,
+    tracker: &RunoutTracker,
+    experiment: Option<&ExperimentComparison>,
+) -> Result<(), Error> {
     let samples = &tracker.samples;
     write_csv_atomically(
         dir.join("runout.csv"),
@@ -415,29 +467,58 @@ fn write_outputs(dir: &Path, column: &Column, tracker: &RunoutTracker) -> Result
     )?;
     write_csv_atomically(
         dir.join("deposit.csv"),
-        &["x", "height"],
-        tracker.latest.iter().map(|&(x, y)| [x, y]),
+        &["x", "height", "displacement"],
+        tracker
+            .latest
+            .iter()
+            .zip(&tracker.displacement)
+            .map(|(&(x, y), &u)| [x, y, u]),
     )?;
     let (x0, y0) = surface_profile(&tracker.initial, column.spacing);
     let (x1, y1) = surface_profile(&tracker.latest, column.spacing);
+    let mut lines = vec![
+        Series {
+            label: "initial",
+            x: &x0,
+            y: &y0,
+        },
+        Series {
+            label: "final",
+            x: &x1,
+            y: &y1,
+        },
+    ];
+    // The experiment is drawn in the scene's coordinates (its x is from the back wall).
+    let offset =
+        |values: &[Real], by: Real| -> Vec<Real> { values.iter().map(|v| v + by).collect() };
+    let measured = experiment.map(|_| {
+        let (surface, line) = (bui2008::final_surface(), bui2008::failure_line());
+        (
+            offset(&surface.x, column.wall),
+            offset(&surface.y, column.base),
+            offset(&line.x, column.wall),
+            offset(&line.y, column.base),
+        )
+    });
+    if let Some((sx, sy, lx, ly)) = &measured {
+        lines.push(Series {
+            label: "experiment, final surface (Bui et al. 2008)",
+            x: sx,
+            y: sy,
+        });
+        lines.push(Series {
+            label: "experiment, failure line",
+            x: lx,
+            y: ly,
+        });
+    }
     line_plot_png(
         dir.join("deposit.png"),
         &PlotSpec {
             title: "Deposit profile",
             x_label: "x (m)",
             y_label: "surface height (m)",
-            lines: vec![
-                Series {
-                    label: "initial",
-                    x: &x0,
-                    y: &y0,
-                },
-                Series {
-                    label: "final",
-                    x: &x1,
-                    y: &y1,
-                },
-            ],
+            lines,
             ..Default::default()
         },
     )?;
@@ -461,6 +542,7 @@ mod tests {
         let dx = 0.004;
         let column = Column {
             wall: 0.0,
+            base: 0.0,
             length: 0.2,
             height: 0.1,
             breadth: 1.0,
@@ -491,5 +573,9 @@ mod tests {
             scene.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
             Column::of(&scene).unwrap();
         }
+        let slope = Scene::from_ron(SLOPE_SCENE).unwrap();
+        slope.validate().unwrap();
+        assert!(factor_of_safety::settings(&slope).is_ok());
+        assert!(Column::of(&slope).is_err());
     }
 }

@@ -23,6 +23,12 @@ struct Cli {
     /// Simulated end time in s (overrides the scene).
     #[arg(long)]
     end_time: Option<f64>,
+    /// Instead of the run, search the factor of safety by strength reduction (c and tan φ
+    /// divided by F until the soil no longer comes to rest), with the scene's
+    /// `factor_of_safety` settings or the defaults; writes factor-of-safety.csv,
+    /// slip-surface.png and failing-state.vtu.
+    #[arg(long)]
+    factor_of_safety: bool,
     /// Output, threads, progress, checkpoints and restart.
     #[command(flatten)]
     run: RunArgs,
@@ -68,6 +74,9 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    if cli.factor_of_safety {
+        return factor_of_safety(&scene, &options, &out);
+    }
     eprintln!(
         "slope-failure: {} ({}D, dx = {} m, to t = {} s) -> {}",
         scene.name,
@@ -98,6 +107,35 @@ fn main() -> ExitCode {
                 slope_failure::Error::Run(error) => ExitCode::from(error.exit_code()),
                 _ => ExitCode::FAILURE,
             }
+        }
+    }
+}
+
+fn factor_of_safety(
+    scene: &Scene,
+    options: &geosph_runner::RunOptions,
+    out: &std::path::Path,
+) -> ExitCode {
+    eprintln!(
+        "slope-failure: factor of safety of {} ({}D, dx = {} m) -> {}",
+        scene.name,
+        scene.dimension,
+        scene.dx,
+        out.display()
+    );
+    let mut progress = |trial: &geosph_soil::sph::Trial| eprintln!("  {trial}");
+    match slope_failure::factor_of_safety::search(scene, options, &mut progress) {
+        Ok(result) => {
+            print!("{result}");
+            println!(
+                "output             {} (factor-of-safety.csv, slip-surface.png, failing-state.vtu)",
+                out.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
         }
     }
 }

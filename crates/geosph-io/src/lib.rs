@@ -49,6 +49,7 @@ pub mod atomic;
 pub mod csv;
 pub mod plot;
 pub mod pvd;
+pub mod reference;
 pub mod vtu;
 
 mod error;
@@ -58,6 +59,7 @@ pub use csv::{CsvSeries, write_csv_atomically};
 pub use error::Error;
 pub use plot::{Axes, PlotSpec, Series, line_plot_png};
 pub use pvd::{PvdCollection, PvdEntry};
+pub use reference::ReferenceCurve;
 pub use vtu::{Field, FieldData, Frame, write_vtu, write_vtu_sets};
 
 #[cfg(test)]

@@ -69,4 +69,7 @@ pub use element::{
 pub use material::{DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial};
 pub use model::{ConstitutiveConfig, SoilModel};
 #[cfg(feature = "sph")]
-pub use sph::{GeostaticReport, SoilConfig, SoilError, build_soil};
+pub use sph::{
+    FactorOfSafety, GeostaticReport, SoilConfig, SoilError, StrengthReductionConfig, build_soil,
+    factor_of_safety,
+};

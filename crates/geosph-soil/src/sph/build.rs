@@ -1,12 +1,15 @@
-//! [`build_soil`]: the soil solver a scene's [`SoilConfig`] describes.
+//! [`build_soil`]: the soil solver a scene's [`SoilConfig`] describes, and
+//! [`factor_of_safety`], the strength-reduction search on it.
 
 use geosph_core::{Particles, Real};
 use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_sph::{ArtificialMonaghan1992, Solver, SphSetup};
 
 use crate::constitutive::Constitutive;
+use crate::sph::config::StrengthReductionConfig;
 use crate::sph::config::{ConfigError, SoilConfig, SoilError};
 use crate::sph::solver::SoilSolver;
+use crate::sph::strength_reduction::{FactorOfSafety, Trial};
 use crate::sph::system::SoilSystem;
 use crate::sph::terms::ArtificialStressGray2001;
 
@@ -30,49 +33,114 @@ pub fn build_soil<const D: usize>(
     )
 }
 
+/// Builds the soil solver of `config` for `particles`, runs its geostatic stage and then the
+/// strength-reduction search `search` ([`SoilSolver::factor_of_safety`], which calls
+/// `on_trial` after each trial); on return `particles` holds the state of the smallest
+/// failing trial factor.
+pub fn factor_of_safety<const D: usize>(
+    config: &SoilConfig,
+    search: &StrengthReductionConfig,
+    setup: SphSetup<D>,
+    particles: &mut Particles<D>,
+    on_trial: &mut dyn FnMut(&Trial),
+) -> Result<FactorOfSafety, SoilError> {
+    config.validate()?;
+    search.validate()?;
+    let (kernel, h) = (setup.kernel, setup.smoothing_length);
+    kernel.dispatch::<D, _>(
+        h,
+        StrengthReduction {
+            builder: SoilBuilder {
+                config,
+                setup,
+                particles,
+            },
+            search,
+            on_trial,
+        },
+    )
+}
+
 struct SoilBuilder<'a, const D: usize> {
     config: &'a SoilConfig,
     setup: SphSetup<D>,
     particles: &'a mut Particles<D>,
 }
 
+/// The solver of `config` for `particles` with `kernel` (both builders' common part).
+fn soil_solver<const D: usize, K: Kernel<D>>(
+    config: &SoilConfig,
+    setup: SphSetup<D>,
+    particles: &mut Particles<D>,
+    kernel: K,
+) -> Result<SoilSolver<D, K>, SoilError> {
+    let model = config.constitutive.build().map_err(ConfigError::from)?;
+    let wave_speed = (model.elastic().p_wave_modulus() / setup.rest_density).sqrt();
+    let viscosity = config
+        .artificial_viscosity
+        .map(|av| ArtificialMonaghan1992 {
+            alpha: av.alpha,
+            beta: av.beta,
+            smoothing_length: kernel.smoothing_length(),
+            sound_speed: wave_speed,
+        });
+    let spacing = particle_spacing::<D>(particles, setup.rest_density);
+    let artificial_stress = config.artificial_stress.map(|stress| {
+        ArtificialStressGray2001::new(&kernel, stress.epsilon, stress.exponent, spacing)
+    });
+    particles.enable_soil();
+    let mut system = SoilSystem::new(
+        kernel,
+        setup,
+        model,
+        viscosity,
+        artificial_stress,
+        config.walls,
+        spacing,
+        config.neighbour_skin,
+    )?;
+    system.set_velocity_gradient_correction(config.velocity_gradient_correction);
+    system.lists.reorder_every = config.reorder_every;
+    let mut solver = SoilSolver::new(system, config.cfl);
+    solver.regularisation = config.regularisation;
+    solver.geostatic = config.geostatic.clone();
+    solver.system.set_damping(config.damping.unwrap_or(0.0));
+    Ok(solver)
+}
+
 impl<const D: usize> KernelVisitor<D> for SoilBuilder<'_, D> {
     type Output = Result<Box<dyn Solver<D>>, SoilError>;
 
     fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let config = self.config;
-        let model = config.constitutive.build().map_err(ConfigError::from)?;
-        let wave_speed = (model.elastic().p_wave_modulus() / self.setup.rest_density).sqrt();
-        let viscosity = config
-            .artificial_viscosity
-            .map(|av| ArtificialMonaghan1992 {
-                alpha: av.alpha,
-                beta: av.beta,
-                smoothing_length: kernel.smoothing_length(),
-                sound_speed: wave_speed,
-            });
-        let spacing = particle_spacing::<D>(self.particles, self.setup.rest_density);
-        let artificial_stress = config.artificial_stress.map(|stress| {
-            ArtificialStressGray2001::new(&kernel, stress.epsilon, stress.exponent, spacing)
-        });
-        self.particles.enable_soil();
-        let mut system = SoilSystem::new(
-            kernel,
+        Ok(Box::new(soil_solver(
+            self.config,
             self.setup,
-            model,
-            viscosity,
-            artificial_stress,
-            config.walls,
-            spacing,
-            config.neighbour_skin,
-        )?;
-        system.set_velocity_gradient_correction(config.velocity_gradient_correction);
-        system.lists.reorder_every = config.reorder_every;
-        let mut solver = SoilSolver::new(system, config.cfl);
-        solver.regularisation = config.regularisation;
-        solver.geostatic = config.geostatic.clone();
-        solver.system.set_damping(config.damping.unwrap_or(0.0));
-        Ok(Box::new(solver))
+            self.particles,
+            kernel,
+        )?))
+    }
+}
+
+struct StrengthReduction<'a, const D: usize> {
+    builder: SoilBuilder<'a, D>,
+    search: &'a StrengthReductionConfig,
+    on_trial: &'a mut dyn FnMut(&Trial),
+}
+
+impl<const D: usize> KernelVisitor<D> for StrengthReduction<'_, D> {
+    type Output = Result<FactorOfSafety, SoilError>;
+
+    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
+        let SoilBuilder {
+            config,
+            setup,
+            particles,
+        } = self.builder;
+        soil_solver(config, setup, particles, kernel)?.factor_of_safety(
+            particles,
+            self.search,
+            self.on_trial,
+        )
     }
 }
 

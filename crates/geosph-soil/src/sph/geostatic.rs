@@ -73,12 +73,59 @@ impl std::fmt::Display for GeostaticReport {
     }
 }
 
-fn kinetic_energy<const D: usize>(soil: &Particles<D>) -> Real {
+/// The kinetic energy of `soil`, J (per metre in 2D).
+pub(crate) fn kinetic_energy<const D: usize>(soil: &Particles<D>) -> Real {
     soil.velocity
         .iter()
         .zip(&soil.mass)
         .map(|(v, m)| 0.5 * m * v.norm_squared())
         .sum()
+}
+
+/// The scales of a damped relaxation of soil H high along gravity (the geostatic stage and the
+/// strength-reduction trials): the damping μ = 2ζω₁ with ω₁ = πc/(2H), the shortest
+/// relaxation 4H/c (one period of that mode) and the energy ½ M (gH/c)² that rest is measured
+/// against (c the P-wave speed, M the soil's mass).
+pub(crate) struct RelaxationScale {
+    /// H, m.
+    pub height: Real,
+    /// μ, 1/s.
+    pub damping: Real,
+    /// 4H/c, s.
+    pub min_time: Real,
+    /// ½ M (gH/c)², J.
+    pub reference_energy: Real,
+}
+
+impl RelaxationScale {
+    /// The scales of `soil` in `solver` with damping ratio ζ = `damping_ratio`.
+    pub fn of<const D: usize, K: Kernel<D>>(
+        solver: &SoilSolver<D, K>,
+        soil: &Particles<D>,
+        damping_ratio: Real,
+    ) -> Self {
+        let system = &solver.system;
+        let g = system.gravity.norm();
+        let down = system.gravity / g;
+        let (low, high) = soil
+            .position
+            .iter()
+            .map(|x| -x.dot(&down))
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), h| {
+                (lo.min(h), hi.max(h))
+            });
+        let height = high - low + system.spacing;
+        let c = system.wave_speed;
+        let omega = std::f64::consts::PI * c / (2.0 * height);
+        let total_mass: Real = soil.mass.iter().sum();
+        let speed = g * height / c;
+        Self {
+            height,
+            damping: 2.0 * damping_ratio * omega,
+            min_time: 4.0 * height / c,
+            reference_energy: 0.5 * total_mass * speed * speed,
+        }
+    }
 }
 
 /// Runs the stage on `soil` with `solver`, then releases: removes the wall particles inside
@@ -110,27 +157,13 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     }
     let down = gravity / g;
     let spacing = solver.system.spacing;
-    let height_of = |x: &Vector<D>| -x.dot(&down);
-    let (low, high) = soil
-        .position
-        .iter()
-        .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), x| {
-            (lo.min(height_of(x)), hi.max(height_of(x)))
-        });
-    let soil_height = high - low + spacing;
-    let c = solver.system.wave_speed;
-    let omega = std::f64::consts::PI * c / (2.0 * soil_height);
-    let damping = 2.0 * config.damping_ratio * omega;
+    let scale = RelaxationScale::of(solver, soil, config.damping_ratio);
     let run_damping = solver.system.damping_rate();
-    solver.system.set_damping_rate(damping);
+    solver.system.set_damping_rate(scale.damping);
     let run_slip = solver.system.wall_config.slip;
     if config.free_slip_walls {
         solver.system.wall_config.slip = WallSlip::FreeSlip;
     }
-    let total_mass: Real = soil.mass.iter().sum();
-    let reference_speed = g * soil_height / c;
-    let reference_energy = 0.5 * total_mass * reference_speed * reference_speed;
-    let min_time = 4.0 * soil_height / c;
     let (mut time, mut steps, mut converged) = (0.0, 0, false);
     let mut ratio = Real::INFINITY;
     while time < config.max_time {
@@ -138,14 +171,14 @@ fn run_stage<const D: usize, K: Kernel<D>>(
         time += report.dt;
         steps += 1;
         if steps % 10 == 0 || time >= config.max_time {
-            ratio = kinetic_energy(soil) / reference_energy;
+            ratio = kinetic_energy(soil) / scale.reference_energy;
             if !ratio.is_finite() {
                 return Err(SoilError::Config(ConfigError {
                     field: "geostatic".into(),
                     message: format!("the stage blew up after {steps} steps (t = {time:.4} s)"),
                 }));
             }
-            if time >= min_time && ratio < config.kinetic_energy_tolerance {
+            if time >= scale.min_time && ratio < config.kinetic_energy_tolerance {
                 converged = true;
                 break;
             }

@@ -12,21 +12,26 @@
 //! - [`geostatic`]: the geostatic stage ([`SoilSolver::run_geostatic_stage`]) with its
 //!   [`GeostaticReport`] and the release.
 //! - [`solver`]: [`SoilSolver`], the time step and the per-step bookkeeping.
+//! - [`strength_reduction`]: the factor of safety by strength reduction
+//!   ([`SoilSolver::factor_of_safety`]).
 
 pub mod build;
 pub mod config;
 pub mod geostatic;
 pub mod regularise;
 pub mod solver;
+pub mod strength_reduction;
 pub mod system;
 pub mod terms;
 pub mod walls;
 
-pub use build::build_soil;
+pub use build::{build_soil, factor_of_safety};
 pub use config::{
     ArtificialStressConfig, ArtificialViscosityConfig, ConfigError, GeostaticConfig,
-    RegularisationConfig, ReleaseBox, SoilConfig, SoilError, SoilWallConfig, WallSlip, WallStress,
+    RegularisationConfig, ReleaseBox, SoilConfig, SoilError, SoilWallConfig,
+    StrengthReductionConfig, WallSlip, WallStress,
 };
 pub use geostatic::GeostaticReport;
 pub use solver::SoilSolver;
+pub use strength_reduction::{FactorOfSafety, Trial};
 pub use system::SoilSystem;
