@@ -7,7 +7,9 @@ use serde::{Deserialize, Serialize};
 use crate::constitutive::{Constitutive, Response, StressUpdate};
 use crate::invariants::{deviator, first_invariant};
 use crate::kinematics::jaumann_rate;
-use crate::material::{DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial};
+use crate::material::{
+    ConeMatch, DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial,
+};
 
 /// A stress is treated as on the yield surface when f ≥ −`YIELD_TOLERANCE` × (k_c + α_φ|I₁| +
 /// √J₂). After either return f is zero to round-off (≈ 1e-16 of that scale).
@@ -49,19 +51,34 @@ pub struct DruckerPragerBui2008 {
     material: SoilMaterial,
     elastic: ElasticConstants,
     surface: DruckerPragerConstants,
+    matching: ConeMatch,
     algorithm: ReturnAlgorithm,
 }
 
 impl DruckerPragerBui2008 {
-    /// The model of a validated `material`, integrated with `algorithm`.
+    /// The model of a validated `material`, integrated with `algorithm`, with the cone of
+    /// Bui et al. (2008) ([`ConeMatch::Associated`]; see [`Self::with_matching`]).
     pub fn new(material: SoilMaterial, algorithm: ReturnAlgorithm) -> Result<Self, MaterialError> {
         material.validate()?;
         Ok(Self {
             material,
             elastic: material.elastic(),
             surface: material.drucker_prager(),
+            matching: ConeMatch::Associated,
             algorithm,
         })
+    }
+
+    /// The same material with the cone matched to Mohr–Coulomb by `matching`.
+    pub fn with_matching(mut self, matching: ConeMatch) -> Self {
+        self.surface = self.material.drucker_prager_matched(matching);
+        self.matching = matching;
+        self
+    }
+
+    /// How the cone is matched to Mohr–Coulomb.
+    pub fn matching(&self) -> ConeMatch {
+        self.matching
     }
 
     /// The parameters.

@@ -66,7 +66,9 @@ pub use elastic::LinearElastic;
 pub use element::{
     ElementTest, ElementTestError, LoadingPath, PathPoint, run_element_test, write_csv,
 };
-pub use material::{DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial};
+pub use material::{
+    ConeMatch, DruckerPragerConstants, ElasticConstants, MaterialError, SoilMaterial,
+};
 pub use model::{ConstitutiveConfig, SoilModel};
 #[cfg(feature = "sph")]
 pub use sph::{

@@ -100,13 +100,26 @@ impl SoilMaterial {
         ElasticConstants::from_unchecked(self.youngs_modulus, self.poisson_ratio)
     }
 
-    /// The Drucker–Prager constants α_φ, k_c, α_ψ matched to Mohr–Coulomb in plane strain.
+    /// The Drucker–Prager constants α_φ, k_c, α_ψ matched to Mohr–Coulomb in plane strain as
+    /// Bui et al. (2008) match them ([`ConeMatch::Associated`]).
     pub fn drucker_prager(&self) -> DruckerPragerConstants {
-        DruckerPragerConstants::plane_strain_match(
+        self.drucker_prager_matched(ConeMatch::Associated)
+    }
+
+    /// The Drucker–Prager constants α_φ, k_c, α_ψ with the plane-strain match `matching`.
+    pub fn drucker_prager_matched(&self, matching: ConeMatch) -> DruckerPragerConstants {
+        let (phi, psi) = (
             self.friction_angle_deg.to_radians(),
-            self.cohesion,
             self.dilatancy_angle_deg.to_radians(),
-        )
+        );
+        match matching {
+            ConeMatch::Associated => {
+                DruckerPragerConstants::plane_strain_match(phi, self.cohesion, psi)
+            }
+            ConeMatch::FlowRule => {
+                DruckerPragerConstants::plane_strain_flow_match(phi, self.cohesion, psi)
+            }
+        }
     }
 }
 
@@ -209,14 +222,54 @@ fn plane_strain_coefficient(angle: Real) -> Real {
     t / (9.0 + 12.0 * t * t).sqrt()
 }
 
+/// Which plane-strain match of Mohr–Coulomb the Drucker–Prager cone uses.
+///
+/// In plane-strain plastic flow ε̇_zz = 0, and with the potential g = √J₂ + α_ψ I₁ the flow
+/// settles where ∂g/∂σ_zz = 0, i.e. s_zz = −2α_ψ √J₂. There √J₂ = R/√(1 − 3α_ψ²) (R the radius
+/// of the in-plane Mohr circle) and I₁ = 3p − 3α_ψ√J₂ (p the in-plane mean stress, tension
+/// positive), so f = 0 reads R (1 − 3α_φα_ψ)/√(1 − 3α_ψ²) + 3α_φ p = k_c. It is Mohr–Coulomb's
+/// R = c cos φ − p sin φ when 3α_φ/A = sin φ and k_c/A = c cos φ, A = (1 − 3α_φα_ψ)/√(1 − 3α_ψ²).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ConeMatch {
+    /// Bui et al. (2008): α_φ = tan φ/√(9 + 12 tan²φ), k_c = 3c/√(9 + 12 tan²φ), the solution
+    /// of the conditions above for associated flow (α_ψ = α_φ). With ψ < φ the cone is weaker
+    /// than Mohr–Coulomb in plane-strain flow: at ψ = 0 its friction is 3α_φ instead of sin φ
+    /// (0.336 against 0.342 at φ = 20°).
+    #[default]
+    Associated,
+    /// The solution for the model's own flow rule: with D = √(1 − 3α_ψ²) + α_ψ sin φ,
+    /// α_φ = sin φ/(3D) and k_c = c cos φ/D (ψ = 0: α_φ = sin φ/3, k_c = c cos φ; ψ = φ: the
+    /// associated match), so that plane-strain flow is Mohr–Coulomb's for every ψ.
+    FlowRule,
+}
+
 impl DruckerPragerConstants {
-    /// The plane-strain match of φ, c and ψ (angles in radians; no validation).
+    /// The plane-strain match of φ, c and ψ of Bui et al. (2008) ([`ConeMatch::Associated`];
+    /// angles in radians; no validation).
     pub fn plane_strain_match(friction_angle: Real, cohesion: Real, dilatancy_angle: Real) -> Self {
         let t = friction_angle.tan();
         Self {
             alpha_phi: plane_strain_coefficient(friction_angle),
             k_c: 3.0 * cohesion / (9.0 + 12.0 * t * t).sqrt(),
             alpha_psi: plane_strain_coefficient(dilatancy_angle),
+        }
+    }
+
+    /// The plane-strain match of φ, c and ψ for the flow rule ([`ConeMatch::FlowRule`];
+    /// angles in radians; no validation).
+    pub fn plane_strain_flow_match(
+        friction_angle: Real,
+        cohesion: Real,
+        dilatancy_angle: Real,
+    ) -> Self {
+        let alpha_psi = plane_strain_coefficient(dilatancy_angle);
+        let (sin, cos) = friction_angle.sin_cos();
+        let d = (1.0 - 3.0 * alpha_psi * alpha_psi).sqrt() + alpha_psi * sin;
+        Self {
+            alpha_phi: sin / (3.0 * d),
+            k_c: cohesion * cos / d,
+            alpha_psi,
         }
     }
 
@@ -268,6 +321,49 @@ mod tests {
             .unwrap()
             .drucker_prager();
         assert_eq!(associated.alpha_psi, associated.alpha_phi);
+    }
+
+    /// On the plane-strain flow state of [`ConeMatch`] (s_zz = −2α_ψ√J₂) the
+    /// `FlowRule` cone is Mohr–Coulomb's R = c cos φ − p sin φ for every ψ ≤ φ, and the
+    /// `Associated` one only for ψ = φ.
+    #[test]
+    fn flow_rule_match_is_mohr_coulomb_in_plane_strain_flow() {
+        let on_mohr_coulomb = |dp: &DruckerPragerConstants, phi: Real, c: Real, p: Real| {
+            let radius = c * phi.cos() - p * phi.sin();
+            let a = dp.alpha_psi;
+            let s_zz = -2.0 * a * radius / (1.0 - 3.0 * a * a).sqrt();
+            let stress = Tensor3::from_diagonal(&nalgebra::Vector3::new(
+                p + radius,
+                p - radius,
+                p + 1.5 * s_zz,
+            ));
+            dp.yield_function(&stress) / radius
+        };
+        for (phi_deg, psi_deg) in [(20.0, 0.0), (30.0, 10.0), (35.0, 35.0), (19.8, 0.0)] {
+            let (phi, psi): (Real, Real) = (Real::to_radians(phi_deg), Real::to_radians(psi_deg));
+            let (c, p) = (5e3, -40e3);
+            let flow = DruckerPragerConstants::plane_strain_flow_match(phi, c, psi);
+            assert!(
+                on_mohr_coulomb(&flow, phi, c, p).abs() < 1e-12,
+                "φ = {phi_deg}, ψ = {psi_deg}"
+            );
+            let bui = DruckerPragerConstants::plane_strain_match(phi, c, psi);
+            let bui_error = on_mohr_coulomb(&bui, phi, c, p);
+            if psi_deg == phi_deg {
+                assert!(bui_error.abs() < 1e-12);
+                assert_relative_eq!(flow.alpha_phi, bui.alpha_phi, epsilon = 1e-15);
+                assert_relative_eq!(flow.k_c, bui.k_c, epsilon = 1e-9);
+            } else {
+                // The associated match lies inside Mohr–Coulomb in non-associated flow: the
+                // Mohr–Coulomb limit state is beyond its cone.
+                assert!(
+                    bui_error > 1e-3,
+                    "φ = {phi_deg}, ψ = {psi_deg}: {bui_error}"
+                );
+            }
+        }
+        let zero = DruckerPragerConstants::plane_strain_flow_match(0.0, 7.0, 0.0);
+        assert_eq!((zero.alpha_phi, zero.k_c), (0.0, 7.0));
     }
 
     #[test]

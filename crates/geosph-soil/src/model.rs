@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::constitutive::{Constitutive, StressUpdate};
 use crate::drucker_prager::{DruckerPragerBui2008, ReturnAlgorithm};
 use crate::elastic::LinearElastic;
-use crate::material::{ElasticConstants, MaterialError, SoilMaterial};
+use crate::material::{ConeMatch, ElasticConstants, MaterialError, SoilMaterial};
 
 /// The constitutive model of a soil scene, as it is written in RON.
 ///
@@ -34,6 +34,10 @@ pub enum ConstitutiveConfig {
         material: SoilMaterial,
         /// How plastic steps are integrated.
         algorithm: ReturnAlgorithm,
+        /// How the cone is matched to Mohr–Coulomb in plane strain (default `Associated`, as
+        /// Bui et al. 2008; `FlowRule` makes non-associated plane-strain flow Mohr–Coulomb's).
+        #[serde(default)]
+        cone: ConeMatch,
     },
 }
 
@@ -48,7 +52,10 @@ impl ConstitutiveConfig {
             Self::DruckerPrager {
                 material,
                 algorithm,
-            } => SoilModel::DruckerPrager(DruckerPragerBui2008::new(material, algorithm)?),
+                cone,
+            } => SoilModel::DruckerPrager(
+                DruckerPragerBui2008::new(material, algorithm)?.with_matching(cone),
+            ),
         })
     }
 }

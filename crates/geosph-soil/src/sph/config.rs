@@ -9,7 +9,7 @@ use geosph_sph::config_error::in_range;
 use serde::{Deserialize, Serialize};
 
 use crate::drucker_prager::ReturnAlgorithm;
-use crate::material::{MaterialError, SoilMaterial};
+use crate::material::{ConeMatch, MaterialError, SoilMaterial};
 use crate::model::ConstitutiveConfig;
 
 /// Monaghan (1992) artificial viscosity between soil particles.
@@ -165,6 +165,7 @@ impl Default for SoilConfig {
                     dilatancy_angle_deg: 0.0,
                 },
                 algorithm: ReturnAlgorithm::Bui2008,
+                cone: ConeMatch::Associated,
             },
             artificial_viscosity: Some(ArtificialViscosityConfig {
                 alpha: 0.1,

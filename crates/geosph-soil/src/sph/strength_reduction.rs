@@ -149,7 +149,8 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
             let material = reduced_strength(model.material(), factor);
             solver.system.model = SoilModel::DruckerPrager(
                 DruckerPragerBui2008::new(material, model.algorithm())
-                    .expect("a reduced strength stays in range"),
+                    .expect("a reduced strength stays in range")
+                    .with_matching(model.matching()),
             );
             let trial = relax(solver, soil, factor, (&scale, tolerance), config)?;
             on_trial(&trial);
