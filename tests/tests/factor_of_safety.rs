@@ -133,7 +133,10 @@ fn factor_of_safety_search_explains_bad_input() {
         ..quick.clone()
     };
     let error = message(search(&slope, &above));
-    assert!(error.contains("fails already at F_low = 2"), "{error}");
+    assert!(
+        error.contains("fails already at F_low = 2 (a particle moved"),
+        "{error}"
+    );
     // A bisection that cannot reach its tolerance within its budget.
     let tight = StrengthReductionConfig {
         bounds: (1.0, 3.0),

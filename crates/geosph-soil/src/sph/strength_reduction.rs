@@ -158,20 +158,32 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
             if !trial.holds {
                 failing = Some(soil.clone());
             }
-            Ok::<_, SoilError>(trial.holds)
+            Ok::<_, SoilError>(trial)
         };
         let (mut low, mut high) = config.bounds;
-        if run(self, soil, high)? {
+        if run(self, soil, high)?.holds {
             return Err(config_error(
                 "factor_of_safety.bounds",
                 &format!("the soil still holds at F_high = {high}: raise the upper bound"),
             ));
         }
-        if !run(self, soil, low)? {
-            return Err(config_error(
-                "factor_of_safety.bounds",
-                &format!("the soil fails already at F_low = {low}: lower the lower bound"),
-            ));
+        let first = run(self, soil, low)?;
+        if !first.holds {
+            let message = if first.max_displacement > config.failure_displacement * scale.height {
+                format!(
+                    "the soil fails already at F_low = {low} (a particle moved {:.3} m): lower the \
+                     lower bound",
+                    first.max_displacement
+                )
+            } else {
+                format!(
+                    "at F_low = {low} the soil did not come to rest within trial_time = {} s \
+                     (E_k ratio {:.1e} above {tolerance:.1e}, largest displacement {:.2e} m): \
+                     raise trial_time or damping_ratio, or lower the lower bound",
+                    config.trial_time, first.kinetic_energy_ratio, first.max_displacement
+                )
+            };
+            return Err(config_error("factor_of_safety.bounds", &message));
         }
         let mut count = 2;
         while high - low > config.tolerance * low {
@@ -186,7 +198,7 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
             }
             let middle = 0.5 * (low + high);
             count += 1;
-            if run(self, soil, middle)? {
+            if run(self, soil, middle)?.holds {
                 low = middle;
             } else {
                 high = middle;
