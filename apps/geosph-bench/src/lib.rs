@@ -12,7 +12,7 @@
 //! - Taylor–Green vortex, 2D periodic, Re = 100 (Taylor & Green 1937): velocity field;
 //! - hydrostatic tank: p = ρ₀ g (H − y);
 //! - dam break: Martin & Moyce (1952) front and column height;
-//! - granular column collapse (Bui et al. 2008): runout against the finest run (Richardson);
+//! - granular column collapse (Bui et al. 2008): the deposit's surface against the experiment;
 //! - K₀ column: σ_v = ρ g (H − y), σ_h/σ_v = ν/(1 − ν).
 #![warn(missing_docs)]
 
@@ -86,8 +86,7 @@ impl Outcome {
         self.completed() && self.error.is_finite()
     }
 
-    /// Whether the run finished, with or without an error estimate (a collapse run that is
-    /// the only one of its series has no finer run to be compared with).
+    /// Whether the run finished, with or without a finite error.
     pub fn completed(&self) -> bool {
         self.status == "ok" && self.wall_time.is_finite()
     }

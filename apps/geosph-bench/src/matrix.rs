@@ -134,11 +134,12 @@ pub fn run_all(configs: &[Config], quick: bool) -> Vec<Outcome> {
             .max(0.0);
         let result = if outcome.status == "ok" && config.case == Case::Collapse {
             format!(
-                "{:.1} s, {} steps, {:.2} M particle-steps/s, runout {:.4} m",
+                "{:.1} s, {} steps, {:.2} M particle-steps/s, runout {:.4} m, error {:.3e}",
                 outcome.wall_time,
                 outcome.steps,
                 outcome.particle_steps_per_second * 1e-6,
-                outcome.value
+                outcome.value,
+                outcome.error
             )
         } else if outcome.status == "ok" {
             format!(
@@ -162,7 +163,6 @@ pub fn run_all(configs: &[Config], quick: bool) -> Vec<Outcome> {
         );
         outcomes.push(outcome);
     }
-    richardson(&mut outcomes);
     outcomes
 }
 
@@ -193,41 +193,6 @@ pub fn by_series(outcomes: &[Outcome]) -> BTreeMap<Series, Vec<usize>> {
         members.sort_by(|&a, &b| outcomes[b].config.dx.total_cmp(&outcomes[a].config.dx));
     }
     groups
-}
-
-/// Errors of the cases compared with their own finest run (the collapse): each run's value
-/// against the finest run's of its series, relative to the column length 0.2 m; the finest
-/// run gets the Richardson estimate |v_f − v_m| / (r^p − 1), r the refinement ratio and p the
-/// order observed from the three finest runs (1 when fewer than three, or not monotone).
-pub fn richardson(outcomes: &mut [Outcome]) {
-    const LENGTH: Real = 0.2;
-    for members in by_series(outcomes).into_values() {
-        if outcomes[members[0]].config.case != Case::Collapse {
-            continue;
-        }
-        let good: Vec<usize> = members
-            .into_iter()
-            .filter(|&i| outcomes[i].status == "ok")
-            .collect();
-        let [.., middle, finest] = good[..] else {
-            continue;
-        };
-        let values: Vec<Real> = outcomes.iter().map(|o| o.value).collect();
-        let value = |i: usize| values[i];
-        let ratio = outcomes[middle].config.dx / outcomes[finest].config.dx;
-        let mut order: Real = 1.0;
-        if let [.., coarse, _, _] = good[..] {
-            let (a, b) = (value(coarse) - value(middle), value(middle) - value(finest));
-            if a * b > 0.0 && a.abs() > b.abs() {
-                order = (a / b).abs().ln() / ratio.ln();
-            }
-        }
-        for &i in &good {
-            outcomes[i].error = (value(i) - value(finest)).abs() / LENGTH;
-        }
-        outcomes[finest].error =
-            (value(finest) - value(middle)).abs() / (ratio.powf(order) - 1.0) / LENGTH;
-    }
 }
 
 /// Observed orders of convergence of a series between successive resolutions:

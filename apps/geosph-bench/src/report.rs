@@ -205,7 +205,7 @@ pub fn markdown(outcomes: &[Outcome], header: &str, image_folder: &str) -> Strin
                 if o.is_ok() {
                     format!("{:.3e}", o.error)
                 } else if o.completed() {
-                    "no finer run of its series to compare with".to_string()
+                    "finished without an error measure".to_string()
                 } else {
                     format!("failed: {}", o.status)
                 }
