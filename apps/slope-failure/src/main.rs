@@ -26,7 +26,8 @@ struct Cli {
     /// Instead of the run, search the factor of safety by strength reduction (c and tan φ
     /// divided by F until the soil no longer comes to rest), with the scene's
     /// `factor_of_safety` settings or the defaults; writes factor-of-safety.csv,
-    /// slip-surface.png and failing-state.vtu.
+    /// slip-surface.png and failing-state.vtu. Without --scene: the slope of Griffiths &
+    /// Lane (1999), data/scenes/homogeneous-slope.ron.
     #[arg(long)]
     factor_of_safety: bool,
     /// Output, threads, progress, checkpoints and restart.
@@ -45,6 +46,7 @@ fn load(cli: &Cli) -> Result<Scene, String> {
     let text = match &cli.scene {
         Some(path) => std::fs::read_to_string(path)
             .map_err(|error| format!("cannot read scene {}: {error}", path.display()))?,
+        None if cli.factor_of_safety => slope_failure::SLOPE_SCENE.to_owned(),
         None => slope_failure::DEFAULT_SCENE.to_owned(),
     };
     let mut scene = Scene::from_ron(&text).map_err(|error| error.to_string())?;
@@ -75,6 +77,17 @@ fn main() -> ExitCode {
         }
     };
     if cli.factor_of_safety {
+        if options.restart.is_some() || options.checkpoint_every.is_some() {
+            eprintln!(
+                "error: --factor-of-safety runs trials, not one run: it takes no --restart or --checkpoint-every"
+            );
+            return ExitCode::FAILURE;
+        }
+        if cli.end_time.is_some() {
+            eprintln!(
+                "slope-failure: --end-time is ignored by --factor-of-safety (each trial lasts at most `factor_of_safety.trial_time`)"
+            );
+        }
         return factor_of_safety(&scene, &options, &out);
     }
     eprintln!(

@@ -237,9 +237,17 @@ fn relax<const D: usize, K: Kernel<D>>(
     use geosph_sph::Solver;
     let run_damping = solver.system.damping_rate();
     solver.system.set_damping_rate(scale.damping);
-    solver.system.update_lists(soil)?;
+    // Lists built afresh for every trial, so that a trial does not depend on the ones before.
+    solver.system.lists.invalidate();
     let limit = config.failure_displacement * scale.height;
-    let (mut time, mut steps) = (0.0, 0);
+    let failed = |steps: usize, time: Real, reason: String| {
+        config_error(
+            "factor_of_safety",
+            &format!(
+                "the trial at F = {factor} failed numerically after {steps} steps (t = {time:.4} s): {reason}"
+            ),
+        )
+    };
     let mut trial = Trial {
         factor,
         holds: false,
@@ -248,26 +256,38 @@ fn relax<const D: usize, K: Kernel<D>>(
         max_displacement: 0.0,
         kinetic_energy_ratio: Real::INFINITY,
     };
-    while time < config.trial_time {
-        let report = solver.step(soil, time, config.trial_time - time)?;
-        time += report.dt;
-        steps += 1;
-        if steps % 10 == 0 || time >= config.trial_time {
-            trial.max_displacement = largest_displacement(soil);
-            trial.kinetic_energy_ratio = kinetic_energy(soil) / scale.reference_energy;
-            if trial.max_displacement > limit || !trial.kinetic_energy_ratio.is_finite() {
-                break;
-            }
-            if time >= scale.min_time && trial.kinetic_energy_ratio < tolerance {
-                trial.holds = true;
-                break;
+    let mut run = || -> Result<(), SoilError> {
+        solver.system.update_lists(soil)?;
+        while trial.time < config.trial_time {
+            let report = solver
+                .step(soil, trial.time, config.trial_time - trial.time)
+                .map_err(|error| failed(trial.steps, trial.time, error.to_string()))?;
+            trial.time += report.dt;
+            trial.steps += 1;
+            if trial.steps % 10 == 0 || trial.time >= config.trial_time {
+                trial.max_displacement = largest_displacement(soil);
+                trial.kinetic_energy_ratio = kinetic_energy(soil) / scale.reference_energy;
+                if !(trial.kinetic_energy_ratio.is_finite() && trial.max_displacement.is_finite()) {
+                    return Err(failed(
+                        trial.steps,
+                        trial.time,
+                        "the state is not finite".into(),
+                    ));
+                }
+                if trial.max_displacement > limit {
+                    break;
+                }
+                if trial.time >= scale.min_time && trial.kinetic_energy_ratio < tolerance {
+                    trial.holds = true;
+                    break;
+                }
             }
         }
-    }
+        Ok(())
+    };
+    let result = run();
     solver.system.set_damping_rate(run_damping);
-    trial.time = time;
-    trial.steps = steps;
-    Ok(trial)
+    result.map(|()| trial)
 }
 
 /// The largest |u| of the soil's displacement field (zero at the start of every trial).

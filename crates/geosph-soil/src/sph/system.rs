@@ -65,7 +65,7 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>> {
     /// 1/f of [`lattice_gradient_factor`] with the particles' volume dx^D, on the stress terms
     /// σ/ρ² of soil and wall particles: the fluid solvers' correction, so that the stress
     /// holding a soil layer up is ρ₀ g (H − y) on the lattice (f = 0.974 for Wendland C2 at
-    /// h = 1.3 dx in 2D, which otherwise makes σ_v 2.7 % too small in magnitude).
+    /// h = 1.3 dx in 2D, which otherwise makes σ_v 2.7 % too large in magnitude).
     pub gradient_correction: Real,
     viscosity: Option<ArtificialMonaghan1992>,
     artificial_stress: Option<ArtificialStressGray2001>,
