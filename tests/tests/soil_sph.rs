@@ -30,7 +30,7 @@ fn k0_scene() -> Scene {
 }
 
 /// K₀ column: after the geostatic stage σ_v is within 2 % of ρ g (H − y) and σ_h/σ_v within
-/// 5 % of ν/(1 − ν) (plane strain, no lateral strain) below the top two layers, at the
+/// 5 % of ν/(1 − ν) (plane strain, no lateral strain) below the top three layers, at the
 /// scenes' h = 1.3 dx.
 ///
 /// Without the lattice gradient correction (`SoilSystem::gradient_correction`) the discrete
@@ -52,7 +52,7 @@ fn k0_column_after_the_geostatic_stage() {
     eprintln!("{report}");
     let figure = |name| report.figure(name).expect(name);
     assert_eq!(figure("converged"), 1.0, "{report}");
-    assert!(figure("checked_particles") >= (20 * 18) as Real, "{report}");
+    assert!(figure("checked_particles") >= (20 * 17) as Real, "{report}");
     assert!(figure("vertical_stress_error_max") < 0.02, "{report}");
     let k0 = 0.3 / 0.7;
     let (low, high) = (figure("lateral_ratio_min"), figure("lateral_ratio_max"));
@@ -61,6 +61,42 @@ fn k0_column_after_the_geostatic_stage() {
         "{report}"
     );
     assert!(figure("residual_max") < 0.01, "{report}");
+}
+
+/// The geostatic stage of every shipped column scene at dx = 2.5 mm and the scenes'
+/// h = 1.3 dx, each particle below the top three layers against the state that applies where it
+/// is (`geosph_soil::sph::stress_check`):
+/// - the free field (farther than the soil height H from the rough side walls): σ_v within 2 %
+///   of ρ g (H − y), the bound for the 1D state;
+/// - every layer between the two friction walls: its mean σ_v between Janssen's (1895) value
+///   with the walls' friction fully mobilised (the least the walls allow) and ρ g z (walls
+///   cannot push the soil down), within 1 % of ρ g z.
+#[test]
+fn geostatic_stage_of_the_shipped_scenes() {
+    for (name, text) in slope_failure::SCENES {
+        let mut scene = Scene::from_ron(text).unwrap();
+        scene.dx = 0.0025;
+        let SolverSpec::Soil(config) = &scene.solver else {
+            unreachable!("a soil scene")
+        };
+        let (mut soil, inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
+        let mut solver = build_soil(config, inputs, &mut soil).unwrap();
+        let report = solver
+            .initial_stage(&mut soil)
+            .unwrap()
+            .expect("the shipped column scenes have a geostatic stage");
+        eprintln!("{name}: {report}");
+        let figure = |name| report.figure(name).expect(name);
+        assert_eq!(figure("converged"), 1.0, "{name}: {report}");
+        if figure("checked_particles") > 0.0 {
+            assert!(
+                figure("vertical_stress_error_max") <= 0.02,
+                "{name}: {report}"
+            );
+        }
+        assert!(figure("janssen_layers") >= 30.0, "{name}: {report}");
+        assert_eq!(figure("janssen_outside_bounds"), 0.0, "{name}: {report}");
+    }
 }
 
 fn collapse(dx: Real, end_time: Real) -> Report {
@@ -127,19 +163,19 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
 /// `slope_failure::bui2008::ExperimentComparison`).
 ///
 /// Tolerances from the convergence study of docs/soil.md ("Against the experiment"): at
-/// dx = 1.25 mm the surface error P_d is 7.2 % and the toe 3.3 % beyond the measured one. A
+/// dx = 1.25 mm the surface error P_d is 6.2 % and the toe 5.2 % beyond the measured one. A
 /// surface drawn by particles is known to ±dx/2 at each of the 27 points, which bounds P_d's
-/// change by (dx/2)√27 / ‖f_exp‖ = 4.7 % at dx = 5 mm: P_d ≤ 7.2 + 4.7 ≈ 12 %. The toe moves
-/// by 6.5 % from dx = 5 to 1.25 mm: within 3.3 + 6.5 ≈ 10 % of the measured toe. The height at
-/// the wall is the measured 0.1 m within dx/2.
+/// change by (dx/2)√27 / ‖f_exp‖ = 4.7 % at dx = 5 mm: P_d ≤ 6.2 + 4.7 ≈ 11 %. The toe moves
+/// by at most 1.6 % per halving of dx from 5 to 1.25 mm: within 5.2 + 2 × 1.6 ≈ 8.5 % of the
+/// measured toe. The height at the wall is the measured 0.1 m within dx/2.
 fn against_the_experiment(report: &Report) {
     let experiment = report
         .experiment
         .as_ref()
         .expect("the default scene is the experiment's set-up");
     let (toe, measured_toe) = experiment.toe;
-    assert!(experiment.surface_error <= 0.12, "{report}");
-    assert!((toe / measured_toe - 1.0).abs() <= 0.10, "{report}");
+    assert!(experiment.surface_error <= 0.11, "{report}");
+    assert!((toe / measured_toe - 1.0).abs() <= 0.085, "{report}");
     let (height, measured_height) = experiment.height_at_wall;
     assert!(
         (height - measured_height).abs() <= 0.5 * report.column.spacing,

@@ -1,8 +1,6 @@
 //! The geostatic stage: gravity loading with damping until the soil is at rest, a check of the
 //! reached stress against the lithostatic σ_v, and the release.
 
-use std::collections::HashMap;
-
 use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
@@ -10,6 +8,7 @@ use geosph_sph::{Solver, StageReport};
 
 use crate::sph::config::{ConfigError, GeostaticConfig, SoilError, WallSlip};
 use crate::sph::solver::SoilSolver;
+use crate::sph::stress_check::{CheckSetup, StressCheck, ZoneCheck, check_stress};
 use crate::sph::system::SoilSystem;
 
 /// What the geostatic stage reached.
@@ -28,16 +27,9 @@ pub struct GeostaticReport {
     pub residual_rms: Real,
     /// Largest |a_i + μ v_i| / |g|.
     pub residual_max: Real,
-    /// Particles deeper than two layers below the top of their column, where the stress is
-    /// compared.
-    pub checked_particles: usize,
-    /// Largest |σ_v − σ_v,ref| / |σ_v,ref| with σ_v,ref = −ρ₀ |g| (H − y), H the top of the
-    /// particle's column (tension positive).
-    pub vertical_stress_error_max: Real,
-    /// Mean of the same relative error.
-    pub vertical_stress_error_mean: Real,
-    /// Smallest, mean and largest σ_h/σ_v (σ_h the mean horizontal normal stress).
-    pub lateral_ratio: (Real, Real, Real),
+    /// σ_v and σ_h/σ_v below the top three layers: the free field against the 1D state, the
+    /// soil next to rough side walls against Janssen's arching ([`check_stress`]).
+    pub stress: StressCheck,
     /// Fraction of all particles that flowed plastically during the stage.
     pub plastic_fraction: Real,
     /// Wall particles removed at release.
@@ -48,9 +40,7 @@ impl std::fmt::Display for GeostaticReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "geostatic stage: {} steps, {:.4} s, {} (E_k ratio {:.1e}); residual rms {:.2e} g, max {:.2e} g; \
-             sigma_v error max {:.2} %, mean {:.2} % over {} particles; sigma_h/sigma_v {:.3}..{:.3} (mean {:.3}); \
-             plastic {:.1} %; {} wall particles released",
+            "geostatic stage: {} steps, {:.4} s, {} (E_k ratio {:.1e}); residual rms {:.2e} g, max {:.2e} g",
             self.steps,
             self.time,
             if self.converged {
@@ -61,12 +51,56 @@ impl std::fmt::Display for GeostaticReport {
             self.kinetic_energy_ratio,
             self.residual_rms,
             self.residual_max,
-            100.0 * self.vertical_stress_error_max,
-            100.0 * self.vertical_stress_error_mean,
-            self.checked_particles,
-            self.lateral_ratio.0,
-            self.lateral_ratio.2,
-            self.lateral_ratio.1,
+        )?;
+        let stress = &self.stress;
+        let zone = |f: &mut std::fmt::Formatter<'_>, name: &str, z: &ZoneCheck| {
+            if z.particles == 0 {
+                return write!(f, "; {name}: no particles");
+            }
+            write!(
+                f,
+                "; {name}: {} particles, sigma_v error max {:.2} %, mean {:.2} % (sigma_v/rho g (H - y) mean {:.3}), \
+                 sigma_h/sigma_v {:.3}..{:.3} (mean {:.3}, oedometric ratio error max {:.1} %)",
+                z.particles,
+                100.0 * z.vertical_stress_error_max,
+                100.0 * z.vertical_stress_error_mean,
+                z.vertical_stress_ratio_mean,
+                z.lateral_ratio.0,
+                z.lateral_ratio.2,
+                z.lateral_ratio.1,
+                100.0 * z.lateral_ratio_error_max,
+            )
+        };
+        let free = if stress.free_field_distance.is_finite() {
+            format!(
+                "free field (> {:.3} m from rough side walls)",
+                stress.free_field_distance
+            )
+        } else {
+            "free field (no wall carries shear)".to_string()
+        };
+        zone(f, &free, &stress.free_field)?;
+        if stress.wall_zone.particles > 0 {
+            zone(f, "wall zone", &stress.wall_zone)?;
+        }
+        if let Some(j) = &stress.janssen {
+            write!(
+                f,
+                "; Janssen (tan delta {:.3}, K {:.3}, B {:.3} m) over {} layers: error max {:.1} % of rho g z, \
+                 deepest layer {:.3} (Janssen {:.3}), {} layers outside [Janssen, 1D]",
+                j.wall_friction,
+                j.lateral_ratio,
+                j.width,
+                j.layers,
+                100.0 * j.error_max,
+                j.deepest.0,
+                j.deepest.1,
+                j.outside_bounds
+            )?;
+        }
+        write!(
+            f,
+            "; plastic {:.1} %; {} wall particles released",
             100.0 * self.plastic_fraction,
             self.released_walls
         )
@@ -156,7 +190,6 @@ fn run_stage<const D: usize, K: Kernel<D>>(
         }));
     }
     let down = gravity / g;
-    let spacing = solver.system.spacing;
     let scale = RelaxationScale::of(solver, soil, config.damping_ratio);
     let run_damping = solver.system.damping_rate();
     solver.system.set_damping_rate(scale.damping);
@@ -195,14 +228,40 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     let residual_rms =
         (residuals.iter().map(|r| r * r).sum::<Real>() / residuals.len().max(1) as Real).sqrt();
     let residual_max = residuals.iter().copied().fold(0.0, Real::max);
-    let mut report = stress_check(soil, &down, g, solver.system.rest_density, spacing);
-    report.steps = steps;
-    report.time = time;
-    report.converged = converged;
-    report.kinetic_energy_ratio = ratio;
-    report.residual_rms = residual_rms;
-    report.residual_max = residual_max;
-    report.released_walls = solver.system.release_walls(config)?;
+    let system = &solver.system;
+    let no_shear = config.free_slip_walls || system.wall_config.slip == WallSlip::FreeSlip;
+    let setup = CheckSetup {
+        down,
+        unit_weight: system.rest_density * g,
+        spacing: system.spacing,
+        height: scale.height,
+        rough_walls: if no_shear {
+            &[]
+        } else {
+            &system.walls.position
+        },
+        wall_friction: match system.wall_config.slip {
+            WallSlip::Friction { angle_deg } => Some(angle_deg.to_radians().tan()),
+            WallSlip::NoSlip | WallSlip::FreeSlip => None,
+        },
+    };
+    let stress = check_stress(soil, &system.model, &setup);
+    let fields = soil
+        .soil
+        .as_ref()
+        .expect("soil particles carry soil fields");
+    let plastic = fields.plastic_strain.iter().filter(|&&e| e > 0.0).count();
+    let report = GeostaticReport {
+        steps,
+        time,
+        converged,
+        kinetic_energy_ratio: ratio,
+        residual_rms,
+        residual_max,
+        stress,
+        plastic_fraction: plastic as Real / soil.len().max(1) as Real,
+        released_walls: solver.system.release_walls(config)?,
+    };
     solver.system.set_damping_rate(run_damping);
     solver.system.wall_config.slip = run_slip;
     let fields = soil
@@ -233,21 +292,38 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
 impl GeostaticReport {
     /// The report in the runner's material-neutral form, every field a named figure.
     pub fn stage_report(&self) -> StageReport {
+        let (free, wall) = (&self.stress.free_field, &self.stress.wall_zone);
+        let janssen = self.stress.janssen.as_ref();
         let figures = [
             ("time", self.time),
             ("converged", Real::from(u8::from(self.converged))),
             ("kinetic_energy_ratio", self.kinetic_energy_ratio),
             ("residual_rms", self.residual_rms),
             ("residual_max", self.residual_max),
-            ("checked_particles", self.checked_particles as Real),
-            ("vertical_stress_error_max", self.vertical_stress_error_max),
+            ("checked_particles", free.particles as Real),
+            ("vertical_stress_error_max", free.vertical_stress_error_max),
             (
                 "vertical_stress_error_mean",
-                self.vertical_stress_error_mean,
+                free.vertical_stress_error_mean,
             ),
-            ("lateral_ratio_min", self.lateral_ratio.0),
-            ("lateral_ratio_mean", self.lateral_ratio.1),
-            ("lateral_ratio_max", self.lateral_ratio.2),
+            ("lateral_ratio_min", free.lateral_ratio.0),
+            ("lateral_ratio_mean", free.lateral_ratio.1),
+            ("lateral_ratio_max", free.lateral_ratio.2),
+            ("lateral_ratio_error_max", free.lateral_ratio_error_max),
+            ("wall_zone_particles", wall.particles as Real),
+            (
+                "wall_zone_stress_ratio_mean",
+                wall.vertical_stress_ratio_mean,
+            ),
+            ("janssen_layers", janssen.map_or(0.0, |j| j.layers as Real)),
+            (
+                "janssen_error_max",
+                janssen.map_or(Real::NAN, |j| j.error_max),
+            ),
+            (
+                "janssen_outside_bounds",
+                janssen.map_or(0.0, |j| j.outside_bounds as Real),
+            ),
             ("plastic_fraction", self.plastic_fraction),
             ("released_walls", self.released_walls as Real),
         ];
@@ -260,79 +336,5 @@ impl GeostaticReport {
                 .map(|(name, value)| (name.to_string(), value))
                 .collect(),
         }
-    }
-}
-
-/// σ_v and σ_h/σ_v of the particles deeper than two layers below the top of their column
-/// (columns are bins of width dx across gravity).
-fn stress_check<const D: usize>(
-    soil: &Particles<D>,
-    down: &Vector<D>,
-    g: Real,
-    rest_density: Real,
-    spacing: Real,
-) -> GeostaticReport {
-    let fields = soil
-        .soil
-        .as_ref()
-        .expect("soil particles carry soil fields");
-    let column = |x: &Vector<D>| -> Vec<i64> {
-        let across = x + down * (-x.dot(down));
-        (0..D)
-            .map(|k| (across[k] / spacing).round() as i64)
-            .collect()
-    };
-    let mut top: HashMap<Vec<i64>, Real> = HashMap::new();
-    for x in &soil.position {
-        let height = -x.dot(down);
-        let entry = top.entry(column(x)).or_insert(Real::NEG_INFINITY);
-        *entry = entry.max(height);
-    }
-    let (mut count, mut error_max, mut error_sum) = (0, 0.0, 0.0);
-    let (mut ratio_min, mut ratio_sum, mut ratio_max) = (Real::INFINITY, 0.0, Real::NEG_INFINITY);
-    let mut plastic = 0;
-    for (i, x) in soil.position.iter().enumerate() {
-        if fields.plastic_strain[i] > 0.0 {
-            plastic += 1;
-        }
-        let column_top = top[&column(x)] + 0.5 * spacing;
-        let depth = column_top - (-x.dot(down));
-        if depth < 2.0 * spacing {
-            continue;
-        }
-        let sigma = &fields.stress[i];
-        let mut sigma_v = 0.0;
-        let mut trace = 0.0;
-        for a in 0..D {
-            trace += sigma[(a, a)];
-            for b in 0..D {
-                sigma_v += down[a] * sigma[(a, b)] * down[b];
-            }
-        }
-        let sigma_h = (trace - sigma_v) / (D - 1) as Real;
-        let reference = -rest_density * g * depth;
-        let error = ((sigma_v - reference) / reference).abs();
-        error_max = Real::max(error_max, error);
-        error_sum += error;
-        let ratio = sigma_h / sigma_v;
-        ratio_min = ratio_min.min(ratio);
-        ratio_max = ratio_max.max(ratio);
-        ratio_sum += ratio;
-        count += 1;
-    }
-    let n = count.max(1) as Real;
-    GeostaticReport {
-        steps: 0,
-        time: 0.0,
-        converged: false,
-        kinetic_energy_ratio: 0.0,
-        residual_rms: 0.0,
-        residual_max: 0.0,
-        checked_particles: count,
-        vertical_stress_error_max: error_max,
-        vertical_stress_error_mean: error_sum / n,
-        lateral_ratio: (ratio_min, ratio_sum / n, ratio_max),
-        plastic_fraction: plastic as Real / soil.len().max(1) as Real,
-        released_walls: 0,
     }
 }

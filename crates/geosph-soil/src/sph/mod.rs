@@ -11,6 +11,7 @@
 //! - [`regularise`]: Shepard and MLS stress regularisation (Nguyen et al. 2017).
 //! - [`geostatic`]: the geostatic stage ([`SoilSolver::run_geostatic_stage`]) with its
 //!   [`GeostaticReport`] and the release.
+//! - [`stress_check`]: the geostatic state against the 1D state and Janssen's arching.
 //! - [`solver`]: [`SoilSolver`], the time step and the per-step bookkeeping.
 //! - [`strength_reduction`]: the factor of safety by strength reduction
 //!   ([`SoilSolver::factor_of_safety`]).
@@ -21,6 +22,7 @@ pub mod geostatic;
 pub mod regularise;
 pub mod solver;
 pub mod strength_reduction;
+pub mod stress_check;
 pub mod system;
 pub mod terms;
 pub mod walls;
@@ -34,4 +36,5 @@ pub use config::{
 pub use geostatic::GeostaticReport;
 pub use solver::SoilSolver;
 pub use strength_reduction::{FactorOfSafety, Trial};
+pub use stress_check::{JanssenCheck, StressCheck, ZoneCheck};
 pub use system::SoilSystem;

@@ -15,7 +15,7 @@ use crate::kinematics::{spin, strain_rate};
 use crate::model::SoilModel;
 use crate::sph::config::{SoilWallConfig, WallSlip, WallStress};
 use crate::sph::terms::{ArtificialStressGray2001, block};
-use crate::sph::walls::{coulomb_friction, dummy_velocity, gravity_extrapolation};
+use crate::sph::walls::{coulomb_friction, dummy_velocity, gravity_extrapolation, mirror_shear};
 
 /// Smallest number of particles a parallel task handles.
 const MIN_CHUNK: usize = 256;
@@ -397,8 +397,9 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         let extrapolate = self.wall_config.stress == WallStress::Extrapolated;
         let rho_w = self.rest_density;
         let correction = self.gradient_correction;
+        let mirror = self.wall_config.slip != WallSlip::NoSlip;
         let walls = &mut self.walls;
-        let wall_position = &walls.position;
+        let (wall_position, wall_normal) = (&walls.position, &walls.normal);
         (
             self.wall_stress.par_iter_mut(),
             self.wall_term.par_iter_mut(),
@@ -434,6 +435,9 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 } else {
                     Tensor3::zeros()
                 };
+                if mirror {
+                    *stress = mirror_shear(stress, &wall_normal[w]);
+                }
                 *term = block::<D>(stress) * (correction / (rho_w * rho_w));
                 *pressure = mean_pressure(stress);
             });

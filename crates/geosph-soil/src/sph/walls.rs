@@ -63,6 +63,22 @@ pub fn gravity_extrapolation<const D: usize>(
     increment
 }
 
+/// The stress a slipping wall's dummy particle shows: σ mirrored in the wall plane,
+/// R σ R with R = I − 2 n nᵀ, which keeps the normal stresses and reverses the shear σ_nt, so
+/// that the pair sums carry no shear traction across the wall (the stress analogue of the
+/// mirrored tangential velocity of free slip); the shear a friction wall carries is then its
+/// Coulomb friction alone.
+#[inline]
+pub fn mirror_shear<const D: usize>(stress: &Tensor3, normal: &Vector<D>) -> Tensor3 {
+    let mut reflection = Tensor3::identity();
+    for a in 0..D {
+        for b in 0..D {
+            reflection[(a, b)] -= 2.0 * normal[a] * normal[b];
+        }
+    }
+    reflection * stress * reflection
+}
+
 /// The Coulomb friction acceleration of a soil particle next to a fixed wall with friction
 /// coefficient μ = tan δ: with n the (kernel-averaged) wall normal, the wall's normal push
 /// a_n = a_wall·n, and the tangential velocity the step would reach without friction,
@@ -104,6 +120,42 @@ pub(crate) fn coulomb_friction<const D: usize>(
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    /// A wall with normal n = (cos 30°, sin 30°): the mirrored stress has the same normal
+    /// traction component n·σ·n and tangential normal stress t·σ·t, and the opposite shear
+    /// t·σ·n; the out-of-plane σ_zz is untouched.
+    #[test]
+    fn mirror_shear_reverses_only_the_shear_across_the_wall() {
+        let n = Vector::<2>::new(30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let t = Vector::<2>::new(-n[1], n[0]);
+        let sigma = Tensor3::new(-3.0, 1.5, 0.0, 1.5, -7.0, 0.0, 0.0, 0.0, -4.0);
+        let mirrored = mirror_shear(&sigma, &n);
+        let component = |s: &Tensor3, a: &Vector<2>, b: &Vector<2>| {
+            let mut sum = 0.0;
+            for i in 0..2 {
+                for j in 0..2 {
+                    sum += a[i] * s[(i, j)] * b[j];
+                }
+            }
+            sum
+        };
+        assert_relative_eq!(
+            component(&mirrored, &n, &n),
+            component(&sigma, &n, &n),
+            max_relative = 1e-12
+        );
+        assert_relative_eq!(
+            component(&mirrored, &t, &t),
+            component(&sigma, &t, &t),
+            max_relative = 1e-12
+        );
+        assert_relative_eq!(
+            component(&mirrored, &t, &n),
+            -component(&sigma, &t, &n),
+            max_relative = 1e-12
+        );
+        assert_relative_eq!(mirrored[(2, 2)], -4.0);
+    }
 
     #[test]
     fn no_slip_rule_matches_the_boundary_crate_and_free_slip_keeps_the_tangent() {
