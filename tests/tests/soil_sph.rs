@@ -5,6 +5,7 @@ use geosph_core::Real;
 use geosph_runner::RunOptions;
 use geosph_scene::{Scene, SolverSpec};
 use geosph_soil::build_soil;
+use geosph_sph::StageReport;
 use nalgebra::Matrix2;
 use slope_failure::{DEFAULT_SCENE, Report};
 
@@ -29,6 +30,19 @@ fn k0_scene() -> Scene {
     .unwrap()
 }
 
+/// The report of `scene`'s geostatic stage (2D soil scenes with a stage).
+fn geostatic_stage(scene: &Scene) -> StageReport {
+    let SolverSpec::Soil(config) = &scene.solver else {
+        unreachable!("a soil scene")
+    };
+    let (mut soil, inputs) = geosph_scene::build::<2>(scene).unwrap().split();
+    let mut solver = build_soil(config, inputs, &mut soil).unwrap();
+    solver
+        .initial_stage(&mut soil)
+        .unwrap()
+        .expect("the scene has a geostatic stage")
+}
+
 /// K₀ column: after the geostatic stage σ_v is within 2 % of ρ g (H − y) and σ_h/σ_v within
 /// 5 % of ν/(1 − ν) (plane strain, no lateral strain) below the top three layers, at the
 /// scenes' h = 1.3 dx.
@@ -39,16 +53,7 @@ fn k0_scene() -> Scene {
 /// too steep.
 #[test]
 fn k0_column_after_the_geostatic_stage() {
-    let scene = k0_scene();
-    let SolverSpec::Soil(config) = &scene.solver else {
-        unreachable!("a soil scene")
-    };
-    let (mut soil, inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
-    let mut solver = build_soil(config, inputs, &mut soil).unwrap();
-    let report = solver
-        .initial_stage(&mut soil)
-        .unwrap()
-        .expect("the scene has a geostatic stage");
+    let report = geostatic_stage(&k0_scene());
     eprintln!("{report}");
     let figure = |name| report.figure(name).expect(name);
     assert_eq!(figure("converged"), 1.0, "{report}");
@@ -76,15 +81,7 @@ fn geostatic_stage_of_the_shipped_scenes() {
     for (name, text) in slope_failure::SCENES {
         let mut scene = Scene::from_ron(text).unwrap();
         scene.dx = 0.0025;
-        let SolverSpec::Soil(config) = &scene.solver else {
-            unreachable!("a soil scene")
-        };
-        let (mut soil, inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
-        let mut solver = build_soil(config, inputs, &mut soil).unwrap();
-        let report = solver
-            .initial_stage(&mut soil)
-            .unwrap()
-            .expect("the shipped column scenes have a geostatic stage");
+        let report = geostatic_stage(&scene);
         eprintln!("{name}: {report}");
         let figure = |name| report.figure(name).expect(name);
         assert_eq!(figure("converged"), 1.0, "{name}: {report}");

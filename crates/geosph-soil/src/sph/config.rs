@@ -71,6 +71,16 @@ pub enum WallSlip {
     },
 }
 
+impl WallSlip {
+    /// The Coulomb friction coefficient μ = tan δ of a `Friction` wall, `None` otherwise.
+    pub fn friction_coefficient(&self) -> Option<Real> {
+        match *self {
+            Self::Friction { angle_deg } => Some(angle_deg.to_radians().tan()),
+            Self::NoSlip | Self::FreeSlip => None,
+        }
+    }
+}
+
 /// Which stress the dummy particles carry.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum WallStress {

@@ -229,7 +229,8 @@ fn run_stage<const D: usize, K: Kernel<D>>(
         (residuals.iter().map(|r| r * r).sum::<Real>() / residuals.len().max(1) as Real).sqrt();
     let residual_max = residuals.iter().copied().fold(0.0, Real::max);
     let system = &solver.system;
-    let no_shear = config.free_slip_walls || system.wall_config.slip == WallSlip::FreeSlip;
+    // `free_slip_walls` has made the walls free-slip for the stage.
+    let no_shear = system.wall_config.slip == WallSlip::FreeSlip;
     let setup = CheckSetup {
         down,
         unit_weight: system.rest_density * g,
@@ -240,10 +241,7 @@ fn run_stage<const D: usize, K: Kernel<D>>(
         } else {
             &system.walls.position
         },
-        wall_friction: match system.wall_config.slip {
-            WallSlip::Friction { angle_deg } => Some(angle_deg.to_radians().tan()),
-            WallSlip::NoSlip | WallSlip::FreeSlip => None,
-        },
+        wall_friction: system.wall_config.slip.friction_coefficient(),
     };
     let stress = check_stress(soil, &system.model, &setup);
     let fields = soil

@@ -167,20 +167,33 @@ pub fn check_stress<const D: usize>(
         let entry = top.entry(column(x)).or_insert(Real::NEG_INFINITY);
         *entry = entry.max(height_of(x));
     }
-    // The distance across gravity to the nearest rough wall particle at or above the
-    // particle's level (side walls; the floor below does not hold the soil up by shear).
-    let side_wall_distance = |x: &Vector<D>| -> Real {
-        let level = height_of(x) - 0.5 * dx;
-        setup
-            .rough_walls
-            .iter()
-            .filter(|w| height_of(w) >= level)
-            .map(|w| {
-                let r = w - x;
-                (r - down * r.dot(&down)).norm()
-            })
-            .fold(Real::INFINITY, Real::min)
-    };
+    // A particle is in the free field if no rough wall particle at or above its level lies
+    // within H across gravity (side walls; the floor below does not hold the soil up by
+    // shear). Per column (the bins above): the highest rough wall particle of each wall
+    // column, then per soil column the highest of those within H, so the cost is
+    // soil columns × wall columns, not particles × wall particles.
+    let mut wall_top: HashMap<Vec<i64>, Real> = HashMap::new();
+    for w in setup.rough_walls {
+        let entry = wall_top.entry(column(w)).or_insert(Real::NEG_INFINITY);
+        *entry = entry.max(height_of(w));
+    }
+    let reach = setup.height / dx;
+    let shear_top: HashMap<&Vec<i64>, Real> = top
+        .keys()
+        .map(|soil_column| {
+            let highest = wall_top
+                .iter()
+                .filter(|(wall_column, _)| {
+                    let d2: i64 = (0..D)
+                        .map(|k| (wall_column[k] - soil_column[k]).pow(2))
+                        .sum();
+                    (d2 as Real).sqrt() <= reach
+                })
+                .map(|(_, &height)| height)
+                .fold(Real::NEG_INFINITY, Real::max);
+            (soil_column, highest)
+        })
+        .collect();
     let samples: Vec<Sample> = soil
         .position
         .iter()
@@ -205,7 +218,7 @@ pub fn check_stress<const D: usize>(
                 across: (x - down * x.dot(&down))[0],
                 sigma_v,
                 lateral_ratio: sigma_h / sigma_v,
-                free: side_wall_distance(x) > setup.height,
+                free: height_of(x) - 0.5 * dx > shear_top[&column(x)],
             })
         })
         .collect();

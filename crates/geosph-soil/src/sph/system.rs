@@ -470,10 +470,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         let (rest_density, damping_rate) = (*rest_density, *damping_rate);
         let free_slip = wall_config.slip != WallSlip::NoSlip;
         let (beta_max, wall_viscous) = (wall_config.beta_max, wall_config.viscous);
-        let friction = match wall_config.slip {
-            WallSlip::Friction { angle_deg } => Some(angle_deg.to_radians().tan()),
-            _ => None,
-        };
+        let friction = wall_config.slip.friction_coefficient();
         let Particles {
             position,
             velocity,
