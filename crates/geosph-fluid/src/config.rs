@@ -1,27 +1,18 @@
-//! Scene-level configuration of the fluid solvers, and the factory that builds a solver from
-//! it with every option resolved to a type.
+//! Scene-level configuration of the fluid solvers (what a scene writes, its defaults and its
+//! validation); [`crate::build`] turns it into a solver.
 
-use geosph_boundary::{DummyAdami2012, Slip};
-use geosph_core::{Particles, Real, Vector};
-use geosph_kernels::{Kernel, KernelVisitor};
-use geosph_neighbours::SearchError;
+use geosph_boundary::Slip;
+use geosph_core::{Real, Vector};
 use geosph_sph::config_error::{ConfigError, in_range, positive};
-use geosph_sph::lattice::{lattice_gradient_factor, lattice_kernel_sum};
+use geosph_sph::eos::EosKind;
 use geosph_sph::{
-    ArtificialMonaghan1992, LaminarMorris1997, ParticleShifting, ParticleStart, Solver, SphSetup,
-    ViscousTerm,
+    ArtificialMonaghan1992, LaminarMorris1997, ParticleShifting, ParticleStart, ViscousTerm,
 };
-use geosph_time::{Integrator, Scheme};
+use geosph_time::Scheme;
 use serde::{Deserialize, Serialize};
 
 use crate::diffusion::{DeltaAntuono2010, DeltaFourtakas2019, DeltaMolteni2009, DiffusionTerm};
-use crate::incompressible::{
-    Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
-    WallPressure,
-};
-use crate::wcsph::{DensityMode, WcsphSystem};
-use crate::wcsph_solver::Wcsph;
-use geosph_sph::eos::{EosKind, EquationOfState};
+use crate::incompressible::{PressureSolveSettings, WallPressure};
 
 /// The viscous term of a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -169,7 +160,7 @@ pub struct WcsphConfig {
     /// Clamp negative pressure to zero (default false).
     pub clamp_negative_pressure: bool,
     /// Background pressure p_b in Pa, added to the equation of state (default 0; for confined
-    /// flows with suction such as a vortex, about ρ₀U²: see [`EquationOfState`]).
+    /// flows with suction such as a vortex, about ρ₀U²: see [`EquationOfState`](geosph_sph::eos::EquationOfState)).
     pub background_pressure: Real,
     /// Time integrator (default leap-frog).
     pub integrator: Scheme,
@@ -308,7 +299,7 @@ pub struct IncompressibleConfig {
     pub negative_pressure: bool,
     /// Renormalise every pair gradient per particle (default false), so that divergences and
     /// gradients of linear fields are exact on disordered particles
-    /// ([`PressureSystem::renormalise_gradients`]); only with `negative_pressure`, for flows
+    /// ([`PressureSystem::renormalise_gradients`](crate::incompressible::PressureSystem::renormalise_gradients)); only with `negative_pressure`, for flows
     /// without a free surface.
     pub renormalise_gradients: bool,
 }
@@ -407,180 +398,6 @@ pub enum IncompressibleMethod {
     Iisph,
     /// Bender & Koschier (2015, 2017).
     Dfsph,
-}
-
-/// Builds the WCSPH solver that `config` describes, monomorphised over the kernel it names
-/// (its pair loop over the viscosity and diffusion as well, [`WcsphSystem`]).
-pub fn build_wcsph<const D: usize>(
-    config: &WcsphConfig,
-    setup: SphSetup<D>,
-    fluid: &mut Particles<D>,
-) -> Result<Box<dyn Solver<D>>, SearchError> {
-    let (kernel, h) = (setup.kernel, setup.smoothing_length);
-    kernel.dispatch::<D, _>(
-        h,
-        WcsphBuilder {
-            config,
-            setup,
-            fluid,
-        },
-    )
-}
-
-struct WcsphBuilder<'a, const D: usize> {
-    config: &'a WcsphConfig,
-    setup: SphSetup<D>,
-    fluid: &'a mut Particles<D>,
-}
-
-impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
-    type Output = Result<Box<dyn Solver<D>>, SearchError>;
-
-    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let config = self.config;
-        let setup = self.setup;
-        let (h, c0) = (kernel.smoothing_length(), setup.sound_speed);
-        let eos = EquationOfState {
-            kind: config.equation_of_state,
-            rest_density: setup.rest_density,
-            sound_speed: c0,
-            background_pressure: config.background_pressure,
-        };
-        let wall_condition = DummyAdami2012 {
-            gravity: setup.gravity,
-            slip: config.wall_slip,
-            clamp_negative: config.clamp_wall_pressure,
-        };
-        let mut system = WcsphSystem::new(
-            kernel,
-            setup.domain,
-            eos,
-            config.viscosity.term(h, c0).calibrated(
-                &kernel,
-                setup.spacing,
-                setup.spacing.powi(D as i32),
-            ),
-            config
-                .diffusion
-                .term(h, c0, setup.rest_density, setup.gravity),
-            setup.gravity,
-            setup.walls,
-            wall_condition,
-            config.neighbour_skin,
-        )?;
-        system.gradient_correction =
-            1.0 / lattice_gradient_factor(&kernel, setup.spacing, setup.spacing.powi(D as i32));
-        system.xsph = config.xsph;
-        system.shifting = config.shifting;
-        system.spacing = setup.spacing;
-        system.clamp_negative_pressure = config.clamp_negative_pressure;
-        system.density_mode = match config.density {
-            DensityConfig::Continuity => DensityMode::Continuity,
-            DensityConfig::Summation => DensityMode::Summation,
-        };
-        let integrator = Integrator::new(config.integrator, self.fluid.len());
-        system.lists.reorder_every = config.reorder_every;
-        let mut solver = Wcsph::new(system, integrator, self.fluid);
-        solver.cfl = config.cfl;
-        solver.shepard_every = config.shepard_every;
-        Ok(Box::new(solver))
-    }
-}
-
-/// Builds the incompressible solver `method` that `config` describes, monomorphised over the
-/// kernel it names (the viscous term is resolved once per pass: it acts once per step).
-pub fn build_incompressible<const D: usize>(
-    method: IncompressibleMethod,
-    config: &IncompressibleConfig,
-    setup: SphSetup<D>,
-    fluid: &mut Particles<D>,
-) -> Result<Box<dyn Solver<D>>, SearchError> {
-    let (kernel, h) = (setup.kernel, setup.smoothing_length);
-    kernel.dispatch::<D, _>(
-        h,
-        IncompressibleBuilder {
-            method,
-            config,
-            setup,
-            fluid,
-        },
-    )
-}
-
-struct IncompressibleBuilder<'a, const D: usize> {
-    method: IncompressibleMethod,
-    config: &'a IncompressibleConfig,
-    setup: SphSetup<D>,
-    fluid: &'a mut Particles<D>,
-}
-
-impl<const D: usize> KernelVisitor<D> for IncompressibleBuilder<'_, D> {
-    type Output = Result<Box<dyn Solver<D>>, SearchError>;
-
-    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let config = self.config;
-        let spacing = self.setup.spacing;
-        match self.method {
-            IncompressibleMethod::Pcisph => {
-                let mass = self.setup.rest_density / lattice_kernel_sum(&kernel, spacing);
-                let mut method = Pcisph::new::<D, K>(&kernel, spacing, mass);
-                // The system's diagonals carry the gradient correction; so must the prototype's.
-                let volume = 1.0 / lattice_kernel_sum(&kernel, spacing);
-                method.prototype_diagonal /= lattice_gradient_factor(&kernel, spacing, volume);
-                self.finish(kernel, method)
-            }
-            IncompressibleMethod::Iisph => {
-                let method = Iisph {
-                    relaxation: config.relaxation,
-                    ..Iisph::default()
-                };
-                self.finish(kernel, method)
-            }
-            IncompressibleMethod::Dfsph => {
-                let method = Dfsph::new(config.divergence_solve, config.target_divergence_error);
-                self.finish(kernel, method)
-            }
-        }
-    }
-}
-
-impl<const D: usize> IncompressibleBuilder<'_, D> {
-    fn finish<K: Kernel<D>, M: PressureMethod<D> + 'static>(
-        self,
-        kernel: K,
-        method: M,
-    ) -> Result<Box<dyn Solver<D>>, SearchError> {
-        let (config, setup) = (self.config, self.setup);
-        // The particles' volume on the lattice is 1/Σ_k W (`Incompressible::new`).
-        let volume = 1.0 / lattice_kernel_sum(&kernel, setup.spacing);
-        let viscosity = config
-            .viscosity
-            .term(kernel.smoothing_length(), setup.sound_speed)
-            .calibrated(&kernel, setup.spacing, volume);
-        let mut system = PressureSystem::new(
-            kernel,
-            setup.domain,
-            setup.rest_density,
-            viscosity,
-            setup.gravity,
-            setup.walls,
-            config.wall_pressure,
-        )?;
-        system.shifting = config.shifting;
-        system.renormalise_gradients = config.renormalise_gradients;
-        let settings = PressureSolveSettings {
-            target_density_error: config.target_density_error,
-            max_compression: config.max_compression,
-            min_iterations: config.min_iterations,
-            max_iterations: config.max_iterations,
-            cfl: config.cfl,
-            max_time_step: config.max_time_step,
-            negative_pressure: config.negative_pressure,
-        };
-        let mut solver = Incompressible::new(system, method, settings, setup.spacing, self.fluid)?;
-        solver.system.lists.reorder_every = config.reorder_every;
-        Ok(Box::new(solver))
-    }
 }
 
 #[cfg(test)]

@@ -8,8 +8,9 @@
 //!   continuity or summation density, XSPH, Shepard re-initialisation, Adami walls.
 //! - [`incompressible`]: PCISPH, IISPH and DFSPH on shared operators ([`incompressible::PressureSystem`]).
 //! - [`wcsph_solver`]: [`Wcsph`], the WCSPH system under an explicit integrator.
-//! - [`config`]: scene-level configuration ([`WcsphConfig`]) and [`build_wcsph`], which
-//!   resolves every option to a type once, so the hot loops carry no option flags.
+//! - [`config`]: scene-level configuration ([`WcsphConfig`], [`IncompressibleConfig`]).
+//! - [`build`]: [`build_wcsph`] and [`build_incompressible`], which resolve every option to a
+//!   type once, so the hot loops carry no option flags.
 //!
 //! # Example
 //!
@@ -50,15 +51,15 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod build;
 pub mod config;
 pub mod diffusion;
 pub mod incompressible;
 pub mod wcsph;
 pub mod wcsph_solver;
 
-pub use config::{
-    IncompressibleConfig, IncompressibleMethod, WcsphConfig, build_incompressible, build_wcsph,
-};
+pub use build::{build_incompressible, build_wcsph};
+pub use config::{IncompressibleConfig, IncompressibleMethod, WcsphConfig};
 /// The equations of state, from the shared layer (`geosph_sph::eos`).
 pub use geosph_sph::eos;
 pub use geosph_sph::eos::{EosKind, EquationOfState};
