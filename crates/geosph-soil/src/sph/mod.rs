@@ -12,6 +12,7 @@
 //! - [`geostatic`]: the geostatic stage ([`SoilSolver::run_geostatic_stage`]) with its
 //!   [`GeostaticReport`] and the release.
 //! - [`stress_check`]: the geostatic state against the 1D state and Janssen's arching.
+//! - [`stress_noise`]: [`StressNoise`], the checkerboard noise of a stress field.
 //! - [`solver`]: [`SoilSolver`], the time step and the per-step bookkeeping.
 //! - [`strength_reduction`]: the factor of safety by strength reduction
 //!   ([`SoilSolver::factor_of_safety`]).
@@ -23,6 +24,7 @@ pub mod regularise;
 pub mod solver;
 pub mod strength_reduction;
 pub mod stress_check;
+pub mod stress_noise;
 pub mod system;
 pub mod terms;
 pub mod walls;
@@ -37,4 +39,5 @@ pub use geostatic::GeostaticReport;
 pub use solver::SoilSolver;
 pub use strength_reduction::{FactorOfSafety, Trial};
 pub use stress_check::{JanssenCheck, StressCheck, ZoneCheck};
+pub use stress_noise::StressNoise;
 pub use system::SoilSystem;

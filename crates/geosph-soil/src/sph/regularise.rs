@@ -8,7 +8,7 @@
 //! (β₀ + β·r_ij) W_ij of Dilts (1999) as Nguyen et al. (2017) use it (first order; its weights
 //! may be negative, so a few states can end slightly outside the cone until the next update).
 
-use geosph_core::{Particles, Real, Tensor3};
+use geosph_core::{Domain, NeighbourList, Particles, Real, Tensor3};
 use geosph_kernels::mls::mls_coefficients;
 use geosph_kernels::shepard::shepard_sums;
 use geosph_kernels::{Kernel, MlsCoefficients};
@@ -33,8 +33,26 @@ pub fn regularise_stress<const D: usize, K: Kernel<D>>(
     mls: bool,
     scratch: &mut RegularisationScratch<D>,
 ) {
+    let (domain, list) = (system.lists.domain(), system.lists.inner());
+    let smoothed = smooth_stress(&system.kernel, domain, list, soil, mls, scratch);
+    soil.soil
+        .as_mut()
+        .expect("soil particles carry soil fields")
+        .stress
+        .copy_from_slice(smoothed);
+}
+
+/// ⟨σ_i⟩ of every particle of `soil` over `list` (its own neighbours, self-pair included) with
+/// the MLS kernel if `mls`, else Shepard; the result lives in `scratch`.
+pub(crate) fn smooth_stress<'s, const D: usize, K: Kernel<D>>(
+    kernel: &K,
+    domain: &Domain<D>,
+    list: &NeighbourList,
+    soil: &Particles<D>,
+    mls: bool,
+    scratch: &'s mut RegularisationScratch<D>,
+) -> &'s [Tensor3] {
     let n = soil.len();
-    let (kernel, domain, list) = (&system.kernel, system.lists.domain(), system.lists.inner());
     scratch.volume.clear();
     scratch
         .volume
@@ -67,7 +85,7 @@ pub fn regularise_stress<const D: usize, K: Kernel<D>>(
     }
     let fields = soil
         .soil
-        .as_mut()
+        .as_ref()
         .expect("soil particles carry soil fields");
     scratch.stress.resize(n, Tensor3::zeros());
     let (position, volume, coefficients, stress) = (
@@ -90,5 +108,5 @@ pub fn regularise_stress<const D: usize, K: Kernel<D>>(
             }
             *smoothed = sum;
         });
-    fields.stress.copy_from_slice(&scratch.stress);
+    &scratch.stress
 }
