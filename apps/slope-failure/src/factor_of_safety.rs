@@ -94,7 +94,7 @@ fn write_outputs(
         result.trials.iter().map(|trial| {
             [
                 trial.factor,
-                Real::from(u8::from(trial.holds)),
+                Real::from(u8::from(trial.holds())),
                 trial.time,
                 trial.steps as Real,
                 trial.max_displacement,

@@ -4,9 +4,10 @@
 use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
-use geosph_sph::{Solver, StageReport};
+use geosph_sph::StageReport;
 
 use crate::sph::config::{ConfigError, GeostaticConfig, SoilError, WallSlip};
+use crate::sph::relaxation::{Relaxation, RelaxationScale, relax};
 use crate::sph::solver::SoilSolver;
 use crate::sph::stress_check::{CheckSetup, StressCheck, ZoneCheck, check_stress};
 use crate::sph::system::SoilSystem;
@@ -107,66 +108,11 @@ impl std::fmt::Display for GeostaticReport {
     }
 }
 
-/// The kinetic energy of `soil`, J (per metre in 2D).
-pub(crate) fn kinetic_energy<const D: usize>(soil: &Particles<D>) -> Real {
-    soil.velocity
-        .iter()
-        .zip(&soil.mass)
-        .map(|(v, m)| 0.5 * m * v.norm_squared())
-        .sum()
-}
-
-/// The scales of a damped relaxation of soil H high along gravity (the geostatic stage and the
-/// strength-reduction trials): the damping μ = 2ζω₁ with ω₁ = πc/(2H), the shortest
-/// relaxation 4H/c (one period of that mode) and the energy ½ M (gH/c)² that rest is measured
-/// against (c the P-wave speed, M the soil's mass).
-pub(crate) struct RelaxationScale {
-    /// H, m.
-    pub height: Real,
-    /// μ, 1/s.
-    pub damping: Real,
-    /// 4H/c, s.
-    pub min_time: Real,
-    /// ½ M (gH/c)², J.
-    pub reference_energy: Real,
-}
-
-impl RelaxationScale {
-    /// The scales of `soil` in `solver` with damping ratio ζ = `damping_ratio`.
-    pub fn of<const D: usize, K: Kernel<D>>(
-        solver: &SoilSolver<D, K>,
-        soil: &Particles<D>,
-        damping_ratio: Real,
-    ) -> Self {
-        let system = &solver.system;
-        let g = system.gravity.norm();
-        let down = system.gravity / g;
-        let (low, high) = soil
-            .position
-            .iter()
-            .map(|x| -x.dot(&down))
-            .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), h| {
-                (lo.min(h), hi.max(h))
-            });
-        let height = high - low + system.spacing;
-        let c = system.wave_speed;
-        let omega = std::f64::consts::PI * c / (2.0 * height);
-        let total_mass: Real = soil.mass.iter().sum();
-        let speed = g * height / c;
-        Self {
-            height,
-            damping: 2.0 * damping_ratio * omega,
-            min_time: 4.0 * height / c,
-            reference_energy: 0.5 * total_mass * speed * speed,
-        }
-    }
-}
-
-/// Runs the stage on `soil` with `solver`, then releases: removes the wall particles inside
-/// `config.release` ([`SoilSystem::release_walls`]), zeroes velocity, displacement, strain and plastic
-/// strain, and gives the solver back the run's damping and wall slip.
+/// Runs the stage on `soil` with `solver` (a damped relaxation to rest), then releases: removes the wall particles
+/// inside `config.release` ([`SoilSystem::release_walls`]), zeroes velocity, displacement,
+/// strain and plastic strain, and gives the solver back the run's wall slip.
 impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
-    /// Runs the geostatic stage `config` on `soil` ([`Solver::initial_stage`] calls it).
+    /// Runs the geostatic stage `config` on `soil` ([`geosph_sph::Solver::initial_stage`] calls it).
     pub fn run_geostatic_stage(
         &mut self,
         soil: &mut Particles<D>,
@@ -191,33 +137,32 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     }
     let down = gravity / g;
     let scale = RelaxationScale::of(solver, soil, config.damping_ratio);
-    let run_damping = solver.system.damping_rate();
-    solver.system.set_damping_rate(scale.damping);
     let run_slip = solver.system.wall_config.slip;
     if config.free_slip_walls {
         solver.system.wall_config.slip = WallSlip::FreeSlip;
     }
-    let (mut time, mut steps, mut converged) = (0.0, 0, false);
-    let mut ratio = Real::INFINITY;
-    while time < config.max_time {
-        let report = solver.step(soil, time, config.max_time - time)?;
-        time += report.dt;
-        steps += 1;
-        if steps % 10 == 0 || time >= config.max_time {
-            ratio = kinetic_energy(soil) / scale.reference_energy;
-            if !ratio.is_finite() {
-                return Err(SoilError::Config(ConfigError {
-                    field: "geostatic".into(),
-                    message: format!("the stage blew up after {steps} steps (t = {time:.4} s)"),
-                }));
-            }
-            if time >= scale.min_time && ratio < config.kinetic_energy_tolerance {
-                converged = true;
-                break;
-            }
-        }
-    }
-    let mu = solver.system.damping_rate();
+    let relaxation = relax(
+        solver,
+        soil,
+        &scale,
+        config.max_time,
+        config.kinetic_energy_tolerance,
+        |_| false,
+    );
+    let Relaxation {
+        steps,
+        time,
+        kinetic_energy_ratio,
+        at_rest,
+    } = relaxation.map_err(|failure| {
+        solver.system.wall_config.slip = run_slip;
+        SoilError::Config(ConfigError {
+            field: "geostatic".into(),
+            message: format!("the stage blew up: {failure}"),
+        })
+    })?;
+    // The equilibrium residual of the damped equation the stage solved.
+    let mu = scale.damping;
     let residuals: Vec<Real> = solver
         .system
         .acceleration()
@@ -252,15 +197,14 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     let report = GeostaticReport {
         steps,
         time,
-        converged,
-        kinetic_energy_ratio: ratio,
+        converged: at_rest,
+        kinetic_energy_ratio,
         residual_rms,
         residual_max,
         stress,
         plastic_fraction: plastic as Real / soil.len().max(1) as Real,
         released_walls: solver.system.release_walls(config)?,
     };
-    solver.system.set_damping_rate(run_damping);
     solver.system.wall_config.slip = run_slip;
     let fields = soil
         .soil

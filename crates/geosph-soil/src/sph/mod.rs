@@ -21,6 +21,7 @@ pub mod build;
 pub mod config;
 pub mod geostatic;
 pub mod regularise;
+pub(crate) mod relaxation;
 pub mod solver;
 pub mod strength_reduction;
 pub mod stress_check;
@@ -37,7 +38,7 @@ pub use config::{
 };
 pub use geostatic::GeostaticReport;
 pub use solver::SoilSolver;
-pub use strength_reduction::{FactorOfSafety, Trial};
+pub use strength_reduction::{FactorOfSafety, Trial, TrialOutcome};
 pub use stress_check::{JanssenCheck, StressCheck, ZoneCheck};
 pub use stress_noise::StressNoise;
 pub use system::SoilSystem;

@@ -69,6 +69,15 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
     pub fn steps(&self) -> usize {
         self.steps
     }
+
+    /// Makes the next step the first of a run: the step count (which schedules the Z-order
+    /// sort and the regularisation) back to zero, and the last step's accelerations and lists
+    /// forgotten ([`SoilSystem::forget_last_step`]), so that relaxations started from the same
+    /// state step alike whatever ran before them.
+    pub fn restart(&mut self) {
+        self.steps = 0;
+        self.system.forget_last_step();
+    }
 }
 
 /// The stress scale ρ₀ (|g| H + c √(2 |g| H)) of soil in a domain H deep along gravity: the

@@ -24,7 +24,8 @@ use crate::drucker_prager::DruckerPragerBui2008;
 use crate::material::SoilMaterial;
 use crate::model::SoilModel;
 use crate::sph::config::{ConfigError, SoilError, StrengthReductionConfig};
-use crate::sph::geostatic::{GeostaticReport, RelaxationScale, kinetic_energy};
+use crate::sph::geostatic::GeostaticReport;
+use crate::sph::relaxation::{RelaxationScale, relax};
 use crate::sph::solver::SoilSolver;
 
 /// One trial of the search.
@@ -32,8 +33,8 @@ use crate::sph::solver::SoilSolver;
 pub struct Trial {
     /// The trial factor F.
     pub factor: Real,
-    /// Whether the soil came to rest.
-    pub holds: bool,
+    /// How it ended.
+    pub outcome: TrialOutcome,
     /// Simulated time of the trial, s.
     pub time: Real,
     /// Steps of the trial.
@@ -42,6 +43,24 @@ pub struct Trial {
     pub max_displacement: Real,
     /// Final E_k / (½ M (gH/c)²), the stage's measure of rest.
     pub kinetic_energy_ratio: Real,
+}
+
+/// How a trial ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrialOutcome {
+    /// The soil came to rest: the slope holds at this F.
+    Holds,
+    /// A particle moved beyond the failure displacement: the slope fails.
+    Slips,
+    /// Neither within the trial time: counted as failing.
+    NotAtRest,
+}
+
+impl Trial {
+    /// Whether the slope held at this F.
+    pub fn holds(&self) -> bool {
+        self.outcome == TrialOutcome::Holds
+    }
 }
 
 /// The result of a search.
@@ -78,9 +97,13 @@ impl std::fmt::Display for Trial {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "F = {:.4}: {:5} after {:.3} s ({} steps), largest displacement {:.2e} m, E_k ratio {:.1e}",
+            "F = {:.4}: {:11} after {:.3} s ({} steps), largest displacement {:.2e} m, E_k ratio {:.1e}",
             self.factor,
-            if self.holds { "holds" } else { "fails" },
+            match self.outcome {
+                TrialOutcome::Holds => "holds",
+                TrialOutcome::Slips => "slips",
+                TrialOutcome::NotAtRest => "not at rest",
+            },
             self.time,
             self.steps,
             self.max_displacement,
@@ -152,24 +175,27 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
                     .expect("a reduced strength stays in range")
                     .with_matching(model.matching()),
             );
-            let trial = relax(solver, soil, factor, (&scale, tolerance), config)?;
+            let trial = run_trial(solver, soil, factor, (&scale, tolerance), config)?;
             on_trial(&trial);
             trials.push(trial);
-            if !trial.holds {
-                failing = Some(soil.clone());
+            if !trial.holds() {
+                match &mut failing {
+                    Some(state) => Particles::clone_from(state, soil),
+                    None => failing = Some(soil.clone()),
+                }
             }
             Ok::<_, SoilError>(trial)
         };
         let (mut low, mut high) = config.bounds;
-        if run(self, soil, high)?.holds {
+        if run(self, soil, high)?.holds() {
             return Err(config_error(
                 "factor_of_safety.bounds",
                 &format!("the soil still holds at F_high = {high}: raise the upper bound"),
             ));
         }
         let first = run(self, soil, low)?;
-        if !first.holds {
-            let message = if first.max_displacement > config.failure_displacement * scale.height {
+        if !first.holds() {
+            let message = if first.outcome == TrialOutcome::Slips {
                 format!(
                     "the soil fails already at F_low = {low} (a particle moved {:.3} m): lower the \
                      lower bound",
@@ -198,7 +224,7 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
             }
             let middle = 0.5 * (low + high);
             count += 1;
-            if run(self, soil, middle)?.holds {
+            if run(self, soil, middle)?.holds() {
                 low = middle;
             } else {
                 high = middle;
@@ -225,69 +251,42 @@ fn config_error(field: &str, message: &str) -> SoilError {
     })
 }
 
-/// One trial: damped steps from the state in `soil` until the soil is at rest, a particle has moved more
-/// than the failure displacement, or the trial time is up.
-fn relax<const D: usize, K: Kernel<D>>(
+/// One trial: damped steps from the state in `soil` ([`relax`]) until the soil is at rest, a
+/// particle has moved more than the failure displacement, or the trial time is up.
+fn run_trial<const D: usize, K: Kernel<D>>(
     solver: &mut SoilSolver<D, K>,
     soil: &mut Particles<D>,
     factor: Real,
     (scale, tolerance): (&RelaxationScale, Real),
     config: &StrengthReductionConfig,
 ) -> Result<Trial, SoilError> {
-    use geosph_sph::Solver;
-    let run_damping = solver.system.damping_rate();
-    solver.system.set_damping_rate(scale.damping);
-    // Lists built afresh for every trial, so that a trial does not depend on the ones before.
-    solver.system.lists.invalidate();
     let limit = config.failure_displacement * scale.height;
-    let failed = |steps: usize, time: Real, reason: String| {
+    let mut max_displacement = 0.0;
+    let relaxation = relax(solver, soil, scale, config.trial_time, tolerance, |soil| {
+        max_displacement = largest_displacement(soil);
+        max_displacement > limit
+    })
+    .map_err(|failure| {
         config_error(
             "factor_of_safety",
-            &format!(
-                "the trial at F = {factor} failed numerically after {steps} steps (t = {time:.4} s): {reason}"
-            ),
+            &format!("the trial at F = {factor} failed numerically {failure}"),
         )
+    })?;
+    let outcome = if relaxation.at_rest {
+        TrialOutcome::Holds
+    } else if max_displacement > limit {
+        TrialOutcome::Slips
+    } else {
+        TrialOutcome::NotAtRest
     };
-    let mut trial = Trial {
+    Ok(Trial {
         factor,
-        holds: false,
-        time: 0.0,
-        steps: 0,
-        max_displacement: 0.0,
-        kinetic_energy_ratio: Real::INFINITY,
-    };
-    let mut run = || -> Result<(), SoilError> {
-        solver.system.update_lists(soil)?;
-        while trial.time < config.trial_time {
-            let report = solver
-                .step(soil, trial.time, config.trial_time - trial.time)
-                .map_err(|error| failed(trial.steps, trial.time, error.to_string()))?;
-            trial.time += report.dt;
-            trial.steps += 1;
-            if trial.steps % 10 == 0 || trial.time >= config.trial_time {
-                trial.max_displacement = largest_displacement(soil);
-                trial.kinetic_energy_ratio = kinetic_energy(soil) / scale.reference_energy;
-                if !(trial.kinetic_energy_ratio.is_finite() && trial.max_displacement.is_finite()) {
-                    return Err(failed(
-                        trial.steps,
-                        trial.time,
-                        "the state is not finite".into(),
-                    ));
-                }
-                if trial.max_displacement > limit {
-                    break;
-                }
-                if trial.time >= scale.min_time && trial.kinetic_energy_ratio < tolerance {
-                    trial.holds = true;
-                    break;
-                }
-            }
-        }
-        Ok(())
-    };
-    let result = run();
-    solver.system.set_damping_rate(run_damping);
-    result.map(|()| trial)
+        outcome,
+        time: relaxation.time,
+        steps: relaxation.steps,
+        max_displacement,
+        kinetic_energy_ratio: relaxation.kinetic_energy_ratio,
+    })
 }
 
 /// The largest |u| of the soil's displacement field (zero at the start of every trial).

@@ -82,10 +82,7 @@ pub struct OedometricRatio {
 impl OedometricRatio {
     /// The path of `model` up to the compression `max_stress` (positive, Pa).
     pub fn new(model: &SoilModel, max_stress: Real) -> Self {
-        let elastic = model.elastic();
-        let (e, nu) = (elastic.youngs_modulus, elastic.poisson_ratio);
-        let constrained_modulus = e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
-        let mut axial_strain = 2.0 * max_stress / constrained_modulus;
+        let mut axial_strain = 2.0 * max_stress / model.elastic().p_wave_modulus();
         loop {
             let test = ElementTest {
                 initial_stress: Tensor3::zeros(),

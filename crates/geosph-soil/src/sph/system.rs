@@ -172,6 +172,13 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         &self.acceleration
     }
 
+    /// Forgets the last step: its accelerations (which bound the next time step) and the pair
+    /// lists.
+    pub fn forget_last_step(&mut self) {
+        self.acceleration.fill(Vector::zeros());
+        self.lists.invalidate();
+    }
+
     /// Removes the wall particles for which `remove` is true (e.g. a retaining wall at release)
     /// and returns how many were removed.
     pub fn remove_walls(
