@@ -72,6 +72,12 @@ pub enum WallSlip {
 }
 
 impl WallSlip {
+    /// Whether soil may slide along the wall (free slip or friction): the wall then mirrors
+    /// only the normal velocity and shows the soil its stress mirrored in the wall plane.
+    pub fn slips(&self) -> bool {
+        *self != Self::NoSlip
+    }
+
     /// The Coulomb friction coefficient μ = tan δ of a `Friction` wall, `None` otherwise.
     pub fn friction_coefficient(&self) -> Option<Real> {
         match *self {

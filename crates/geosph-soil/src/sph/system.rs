@@ -1,4 +1,5 @@
-//! The soil SPH system: kinematics, stress update and momentum of one explicit step.
+//! The soil SPH system: kinematics, stress update and momentum of one explicit step (the
+//! wall-stress and momentum passes in `system/forces.rs`).
 
 use geosph_boundary::{RepulsiveLiu2012, WallParticles};
 use geosph_core::{Matrix, Particles, Real, Tensor3, Vector};
@@ -10,12 +11,13 @@ use geosph_sph::{ArtificialMonaghan1992, PairLists, SphSetup};
 use rayon::prelude::*;
 
 use crate::constitutive::Constitutive;
-use crate::invariants::mean_pressure;
 use crate::kinematics::{spin, strain_rate};
 use crate::model::SoilModel;
-use crate::sph::config::{SoilWallConfig, WallSlip, WallStress};
+use crate::sph::config::SoilWallConfig;
 use crate::sph::terms::{ArtificialStressGray2001, block};
-use crate::sph::walls::{coulomb_friction, dummy_velocity, gravity_extrapolation, mirror_shear};
+use crate::sph::walls::dummy_velocity;
+
+mod forces;
 
 /// Smallest number of particles a parallel task handles.
 const MIN_CHUNK: usize = 256;
@@ -35,7 +37,7 @@ const MIN_CHUNK: usize = 256;
 ///   ([`SoilSystem::gradient_correction`]).
 ///
 /// j runs over soil and dummy wall particles; a dummy particle has mass ρ₀ V_w, the velocity of
-/// Bui's rule ([`dummy_velocity`]) and the stress of [`WallStress`]. Artificial viscosity acts
+/// Bui's rule ([`dummy_velocity`]) and the stress of [`WallStress`](crate::sph::config::WallStress). Artificial viscosity acts
 /// between soil particles (Bui et al. 2008) and, with [`SoilWallConfig::viscous`], also
 /// between soil and dummy particles.
 ///
@@ -297,7 +299,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             ..
         } = self;
         let (kernel, lists, walls, rest_density) = (*kernel, &*lists, &*walls, *rest_density);
-        let free_slip = wall_config.slip != WallSlip::NoSlip;
+        let free_slip = wall_config.slip.slips();
         let beta_max = wall_config.beta_max;
         let Particles {
             position,
@@ -391,168 +393,6 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 if let Some(artificial_stress) = &artificial_stress {
                     *tensile = artificial_stress.particle_term(sigma, *rho);
                 }
-            });
-    }
-
-    /// σ_w of every dummy particle from the soil around it ([`WallStress`]).
-    fn update_walls(&mut self, soil: &Particles<D>) {
-        let fields = soil
-            .soil
-            .as_ref()
-            .expect("soil particles carry soil fields");
-        let (kernel, lists, gravity) = (self.kernel, &self.lists, self.gravity);
-        let extrapolate = self.wall_config.stress == WallStress::Extrapolated;
-        let rho_w = self.rest_density;
-        let correction = self.gradient_correction;
-        let mirror = self.wall_config.slip != WallSlip::NoSlip;
-        let walls = &mut self.walls;
-        let (wall_position, wall_normal) = (&walls.position, &walls.normal);
-        (
-            self.wall_stress.par_iter_mut(),
-            self.wall_term.par_iter_mut(),
-            walls.pressure.par_iter_mut(),
-        )
-            .into_par_iter()
-            .enumerate()
-            .with_min_len(MIN_CHUNK)
-            .for_each(|(w, (stress, term, pressure))| {
-                let mut sum = Tensor3::zeros();
-                let mut weight = 0.0;
-                lists.for_each_particle_near_wall(
-                    &kernel,
-                    &soil.position,
-                    wall_position,
-                    w,
-                    |pair| {
-                        let kernel_value = kernel.value(pair.r);
-                        let mut sigma = fields.stress[pair.index];
-                        if extrapolate {
-                            sigma += gravity_extrapolation(
-                                soil.density[pair.index],
-                                &gravity,
-                                &pair.r_ij,
-                            );
-                        }
-                        sum += sigma * kernel_value;
-                        weight += kernel_value;
-                    },
-                );
-                *stress = if weight > 0.0 {
-                    sum / weight
-                } else {
-                    Tensor3::zeros()
-                };
-                if mirror {
-                    *stress = mirror_shear(stress, &wall_normal[w]);
-                }
-                *term = block::<D>(stress) * (correction / (rho_w * rho_w));
-                *pressure = mean_pressure(stress);
-            });
-    }
-
-    /// dv_i/dt of every soil particle with σ^{n+1}.
-    fn momentum(&mut self, soil: &Particles<D>, dt: Real) {
-        let Self {
-            kernel,
-            lists,
-            gravity,
-            walls,
-            wall_config,
-            rest_density,
-            viscosity,
-            artificial_stress,
-            repulsive,
-            damping_rate,
-            wall_term,
-            stress_term,
-            tensile_term,
-            acceleration,
-            ..
-        } = self;
-        let (kernel, lists, gravity, walls) = (*kernel, &*lists, *gravity, &*walls);
-        let (viscosity, artificial_stress, repulsive) =
-            (*viscosity, *artificial_stress, *repulsive);
-        let h = kernel.smoothing_length();
-        let eta2 = 0.01 * h * h;
-        let (rest_density, damping_rate) = (*rest_density, *damping_rate);
-        let free_slip = wall_config.slip != WallSlip::NoSlip;
-        let (beta_max, wall_viscous) = (wall_config.beta_max, wall_config.viscous);
-        let friction = wall_config.slip.friction_coefficient();
-        let Particles {
-            position,
-            velocity,
-            mass,
-            density,
-            ..
-        } = soil;
-        acceleration
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(MIN_CHUNK)
-            .for_each(|(i, acceleration)| {
-                let (v_i, rho_i) = (velocity[i], density[i]);
-                let (term_i, tensile_i) = (stress_term[i], tensile_term[i]);
-                let mut a_i = Vector::<D>::zeros();
-                lists.for_each_neighbour(&kernel, position, i, |pair| {
-                    let j = pair.index;
-                    let mut term = term_i + stress_term[j];
-                    if let Some(viscosity) = &viscosity {
-                        let approach = (v_i - velocity[j]).dot(&pair.r_ij);
-                        if approach < 0.0 {
-                            let mu = h * approach / (pair.r2 + eta2);
-                            let pi = viscosity.pi(mu, 0.5 * (rho_i + density[j]));
-                            for k in 0..D {
-                                term[(k, k)] -= pi;
-                            }
-                        }
-                    }
-                    if let Some(artificial_stress) = &artificial_stress {
-                        let f = artificial_stress.pair_factor(kernel.value(pair.r));
-                        term += (tensile_i + tensile_term[j]) * f;
-                    }
-                    a_i += term * pair.grad * mass[j];
-                });
-                let mut a_wall = Vector::<D>::zeros();
-                let mut wall_normal = Vector::<D>::zeros();
-                lists.for_each_wall(&kernel, position, &walls.position, i, |pair| {
-                    let w = pair.index;
-                    let mut term = term_i + wall_term[w];
-                    if wall_viscous && let Some(viscosity) = &viscosity {
-                        let v_w = dummy_velocity(
-                            &position[i],
-                            &v_i,
-                            &(position[i] - pair.r_ij),
-                            &walls.normal[w],
-                            walls.depth[w],
-                            &walls.velocity[w],
-                            beta_max,
-                            free_slip,
-                        );
-                        let approach = (v_i - v_w).dot(&pair.r_ij);
-                        if approach < 0.0 {
-                            let mu = h * approach / (pair.r2 + eta2);
-                            let pi = viscosity.pi(mu, rho_i);
-                            for k in 0..D {
-                                term[(k, k)] -= pi;
-                            }
-                        }
-                    }
-                    if let Some(artificial_stress) = &artificial_stress {
-                        term += tensile_i * artificial_stress.pair_factor(kernel.value(pair.r));
-                    }
-                    a_wall += term * pair.grad * (rest_density * walls.volume[w]);
-                    if let Some(repulsive) = &repulsive {
-                        a_wall += repulsive.acceleration(&pair.r_ij);
-                    }
-                    if friction.is_some() {
-                        wall_normal += walls.normal[w] * kernel.value(pair.r);
-                    }
-                });
-                a_i += gravity + a_wall;
-                if let Some(tan_delta) = friction {
-                    a_i += coulomb_friction(&wall_normal, &a_wall, &v_i, &a_i, tan_delta, dt);
-                }
-                *acceleration = a_i - v_i * damping_rate;
             });
     }
 }
