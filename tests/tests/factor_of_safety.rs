@@ -155,5 +155,8 @@ fn factor_of_safety_search_explains_bad_input() {
         ..Default::default()
     };
     let error = message(search(&slope, &reversed));
-    assert!(error.contains("factor_of_safety.bounds"), "{error}");
+    assert!(
+        error.contains("factor_of_safety.bounds") && error.contains("0 < F_low < F_high"),
+        "{error}"
+    );
 }

@@ -2,6 +2,7 @@
 //! column height against the measurements, Ritter's (1892) bound, the gate-delayed shape.
 
 use geosph_core::Real;
+use geosph_io::interpolate;
 use geosph_scene::{Region, Scene, WallSpec};
 
 use crate::reference::{ReferenceCurve, martin_moyce_column_height, martin_moyce_front};
@@ -95,19 +96,6 @@ impl std::fmt::Display for Validation {
     }
 }
 
-/// Linear interpolation of the samples (x, y) at `x0`; `None` outside their range.
-pub(crate) fn interpolate(x: &[Real], y: &[Real], x0: Real) -> Option<Real> {
-    let k = x.partition_point(|&v| v < x0);
-    if k == 0 {
-        return (x.first() == Some(&x0)).then(|| y[0]);
-    }
-    if k == x.len() {
-        return None;
-    }
-    let w = (x0 - x[k - 1]) / (x[k] - x[k - 1]);
-    Some(y[k - 1] + w * (y[k] - y[k - 1]))
-}
-
 /// Differences between the simulated curve and reference points inside its time range:
 /// (RMS, max, count).
 fn compare(sim_x: &[Real], sim_y: &[Real], reference: &ReferenceCurve) -> (Real, Real, usize) {
@@ -138,7 +126,7 @@ pub fn validate(column: &Column, samples: &[Sample]) -> Validation {
     let (front_rms, front_max, front_points) = compare(&t_front, &z, &reference_front);
     let front_error_at = [2.0, 3.0].map(|t| {
         let error = interpolate(&t_front, &z, t)
-            .zip(interpolate(&reference_front.x, &reference_front.y, t))
+            .zip(reference_front.at(t))
             .map(|(sim, exp)| sim - exp);
         (t, error)
     });

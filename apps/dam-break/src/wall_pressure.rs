@@ -18,8 +18,9 @@ use geosph_runner::{PressureProbes, push_records, take_records};
 use geosph_scene::{ProbeSpec, Scene};
 
 use crate::Column;
-use crate::martin_moyce::{downward_gravity, interpolate, tank_at_column};
+use crate::martin_moyce::{downward_gravity, tank_at_column};
 use crate::reference::{ReferenceCurve, lobovsky_wall_pressure};
+use geosph_io::interpolate;
 
 /// Lobovsky et al.'s sensors on the downstream wall: name and height above the bed as a
 /// fraction of the water depth H = 0.3 m (3, 30 and 80 mm), in the order of

@@ -207,14 +207,7 @@ fn measured_toe(surface: &ReferenceCurve, height: Real) -> Real {
 
 /// ∫_a^b of the piecewise-linear `curve` (zero outside its points).
 fn integrate(curve: &ReferenceCurve, a: Real, b: Real) -> Real {
-    let value = |x: Real| {
-        let k = curve.x.partition_point(|&x_k| x_k <= x);
-        if k == 0 || k == curve.x.len() {
-            return 0.0;
-        }
-        let s = (x - curve.x[k - 1]) / (curve.x[k] - curve.x[k - 1]);
-        curve.y[k - 1] + s * (curve.y[k] - curve.y[k - 1])
-    };
+    let value = |x: Real| curve.at(x).unwrap_or(0.0);
     // The curve's points inside (a, b) and the ends: exact for a piecewise-linear curve.
     let mut nodes: Vec<Real> = std::iter::once(a)
         .chain(curve.x.iter().copied().filter(|&x| x > a && x < b))

@@ -59,7 +59,7 @@ pub use csv::{CsvSeries, write_csv_atomically};
 pub use error::Error;
 pub use plot::{Axes, PlotSpec, Series, line_plot_png};
 pub use pvd::{PvdCollection, PvdEntry};
-pub use reference::ReferenceCurve;
+pub use reference::{ReferenceCurve, interpolate};
 pub use vtu::{Field, FieldData, Frame, write_vtu, write_vtu_sets};
 
 #[cfg(test)]

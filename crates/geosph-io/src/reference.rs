@@ -28,6 +28,25 @@ impl ReferenceCurve {
         }
         curve
     }
+
+    /// The curve at `x0`, linearly interpolated ([`interpolate`]).
+    pub fn at(&self, x0: Real) -> Option<Real> {
+        interpolate(&self.x, &self.y, x0)
+    }
+}
+
+/// Linear interpolation of the samples (x, y), x ascending, at `x0`; `None` outside their
+/// range.
+pub fn interpolate(x: &[Real], y: &[Real], x0: Real) -> Option<Real> {
+    let k = x.partition_point(|&v| v < x0);
+    if k == 0 {
+        return (x.first() == Some(&x0)).then(|| y[0]);
+    }
+    if k == x.len() {
+        return None;
+    }
+    let w = (x0 - x[k - 1]) / (x[k] - x[k - 1]);
+    Some(y[k - 1] + w * (y[k] - y[k - 1]))
 }
 
 #[cfg(test)]
@@ -39,5 +58,19 @@ mod tests {
         let curve = ReferenceCurve::from_csv("# source\nx,y\n0.5, 1\nbad,2\n1.5,3,9\n");
         assert_eq!(curve.x, [0.5, 1.5]);
         assert_eq!(curve.y, [1.0, 3.0]);
+    }
+
+    #[test]
+    fn interpolates_inside_and_is_none_outside() {
+        let curve = ReferenceCurve {
+            x: vec![0.0, 1.0, 3.0],
+            y: vec![2.0, 4.0, 0.0],
+        };
+        assert_eq!(curve.at(0.0), Some(2.0));
+        assert_eq!(curve.at(0.5), Some(3.0));
+        assert_eq!(curve.at(2.0), Some(2.0));
+        assert_eq!(curve.at(3.0), Some(0.0));
+        assert_eq!(curve.at(-0.1), None);
+        assert_eq!(curve.at(3.1), None);
     }
 }

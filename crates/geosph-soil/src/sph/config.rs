@@ -5,7 +5,7 @@ use geosph_core::Real;
 use geosph_neighbours::SearchError;
 pub use geosph_sph::ConfigError;
 use geosph_sph::ParticleStart;
-use geosph_sph::config_error::in_range;
+use geosph_sph::config_error::{in_range, positive};
 use serde::{Deserialize, Serialize};
 
 use crate::drucker_prager::ReturnAlgorithm;
@@ -424,12 +424,7 @@ impl StrengthReductionConfig {
                 ),
             ));
         }
-        if !(self.trial_time > 0.0 && self.trial_time.is_finite()) {
-            return Err(error(
-                "trial_time",
-                format!("{} s must be positive", self.trial_time),
-            ));
-        }
+        positive("factor_of_safety.trial_time", self.trial_time)?;
         if !(self.damping_ratio > 0.0 && self.damping_ratio <= 1.0) {
             return Err(error(
                 "damping_ratio",

@@ -245,10 +245,7 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
 }
 
 fn config_error(field: &str, message: &str) -> SoilError {
-    SoilError::Config(ConfigError {
-        field: field.into(),
-        message: message.into(),
-    })
+    ConfigError::new(field, message).into()
 }
 
 /// One trial: damped steps from the state in `soil` ([`relax`]) until the soil is at rest, a

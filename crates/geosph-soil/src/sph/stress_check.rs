@@ -155,11 +155,11 @@ pub fn check_stress<const D: usize>(
         .expect("soil particles carry soil fields");
     let (down, dx) = (setup.down, setup.spacing);
     let height_of = |x: &Vector<D>| -x.dot(&down);
-    let column = |x: &Vector<D>| -> Vec<i64> {
+    let column = |x: &Vector<D>| -> [i64; D] {
         let across = x - down * x.dot(&down);
-        (0..D).map(|k| (across[k] / dx).round() as i64).collect()
+        std::array::from_fn(|k| (across[k] / dx).round() as i64)
     };
-    let mut top: HashMap<Vec<i64>, Real> = HashMap::new();
+    let mut top: HashMap<[i64; D], Real> = HashMap::new();
     for x in &soil.position {
         let entry = top.entry(column(x)).or_insert(Real::NEG_INFINITY);
         *entry = entry.max(height_of(x));
@@ -169,13 +169,13 @@ pub fn check_stress<const D: usize>(
     // shear). Per column (the bins above): the highest rough wall particle of each wall
     // column, then per soil column the highest of those within H, so the cost is
     // soil columns × wall columns, not particles × wall particles.
-    let mut wall_top: HashMap<Vec<i64>, Real> = HashMap::new();
+    let mut wall_top: HashMap<[i64; D], Real> = HashMap::new();
     for w in setup.rough_walls {
         let entry = wall_top.entry(column(w)).or_insert(Real::NEG_INFINITY);
         *entry = entry.max(height_of(w));
     }
     let reach = setup.height / dx;
-    let shear_top: HashMap<&Vec<i64>, Real> = top
+    let shear_top: HashMap<&[i64; D], Real> = top
         .keys()
         .map(|soil_column| {
             let highest = wall_top
@@ -263,13 +263,14 @@ fn zone_check<'s, const D: usize>(
         n += 1;
     }
     let mean = |sum: Real| if n == 0 { Real::NAN } else { sum / n as Real };
+    let extreme = |value: Real| if n == 0 { Real::NAN } else { value };
     ZoneCheck {
         particles: n,
-        vertical_stress_error_max: if n == 0 { Real::NAN } else { error_max },
+        vertical_stress_error_max: extreme(error_max),
         vertical_stress_error_mean: mean(error_sum),
         vertical_stress_ratio_mean: mean(ratio_sum),
-        lateral_ratio: (k_min, mean(k_sum), k_max),
-        lateral_ratio_error_max: if n == 0 { Real::NAN } else { k_error },
+        lateral_ratio: (extreme(k_min), mean(k_sum), extreme(k_max)),
+        lateral_ratio_error_max: extreme(k_error),
     }
 }
 
