@@ -42,7 +42,7 @@ fn search(scene: &Scene, config: &StrengthReductionConfig) -> Result<FactorOfSaf
         unreachable!("a soil scene")
     };
     let (mut particles, inputs) = geosph_scene::build::<2>(scene).unwrap().split();
-    factor_of_safety(soil, config, inputs, &mut particles, &mut |_| {})
+    factor_of_safety(soil, config, inputs, &mut particles, &mut |_| {}).map(|(result, _)| result)
 }
 
 /// Infinite slope, β = 20°, φ = 30°, c = 0, associated flow (for which the plane-strain

@@ -1,17 +1,19 @@
 //! `slope-failure --factor-of-safety`: the strength-reduction search
 //! ([`geosph_soil::factor_of_safety`]) on a 2D soil scene, with its outputs:
 //! `factor-of-safety.csv` (every trial), `slip-surface.png` (the particles of the smallest
-//! failing trial, those that flowed most drawn apart) and `failing-state.vtu`
-//! (that state, for ParaView: displacement, equivalent plastic strain, velocity, stress).
+//! failing trial, those that flowed most drawn apart) and `failing-state.vtu` (that state and
+//! the walls, for ParaView, with the fields of the run's frames: velocity, stress, p, q,
+//! equivalent plastic strain, displacement).
 
 use std::path::Path;
 
 use geosph_core::Real;
-use geosph_io::{Field, Frame, PlotSpec, Series, line_plot_png, write_csv_atomically, write_vtu};
+use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
 use geosph_runner::RunOptions;
 use geosph_scene::{Scene, SolverSpec};
 use geosph_soil::sph::Trial;
 use geosph_soil::{FactorOfSafety, StrengthReductionConfig};
+use geosph_sph::Solver;
 
 use crate::Error;
 
@@ -45,41 +47,36 @@ pub fn search(
             "the factor-of-safety search runs on 2D (plane-strain) scenes".into(),
         ));
     }
-    scene
-        .validate()
-        .map_err(|error| Error::Scene(error.to_string()))?;
     if let Some(dir) = &options.out_dir {
         geosph_runner::output::check_folder(dir)
             .map_err(|reason| Error::Scene(format!("output folder {}: {reason}", dir.display())))?;
     }
-    let mut work = move || -> Result<_, Error> {
+    let work = move || -> Result<_, Error> {
+        // `build` validates the scene.
         let (mut soil, inputs) = geosph_scene::build::<2>(scene)
             .map_err(|error| Error::Scene(error.to_string()))?
             .split();
-        let result = geosph_soil::factor_of_safety(config, &search, inputs, &mut soil, on_trial)
-            .map_err(|error| Error::Scene(error.to_string()))?;
-        Ok((result, soil))
+        let (result, solver) =
+            geosph_soil::factor_of_safety(config, &search, inputs, &mut soil, on_trial)
+                .map_err(|error| Error::Scene(error.to_string()))?;
+        if let Some(dir) = &options.out_dir {
+            std::fs::create_dir_all(dir).map_err(|error| {
+                Error::Scene(format!("output folder {}: {error}", dir.display()))
+            })?;
+            write_outputs(dir, &result, &soil, solver.as_ref())?;
+        }
+        Ok(result)
     };
-    let (result, soil) = match options.threads {
-        Some(threads) => rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|error| Error::Scene(format!("threads: {error}")))?
-            .install(work)?,
-        None => work()?,
-    };
-    if let Some(dir) = &options.out_dir {
-        std::fs::create_dir_all(dir)
-            .map_err(|error| Error::Scene(format!("output folder {}: {error}", dir.display())))?;
-        write_outputs(dir, &result, &soil)?;
-    }
-    Ok(result)
+    options
+        .install(work)
+        .map_err(|error| Error::Scene(format!("threads: {error}")))?
 }
 
 fn write_outputs(
     dir: &Path,
     result: &FactorOfSafety,
     soil: &geosph_core::Particles<2>,
+    solver: &dyn Solver<2>,
 ) -> Result<(), Error> {
     write_csv_atomically(
         dir.join("factor-of-safety.csv"),
@@ -106,15 +103,7 @@ fn write_outputs(
         .soil
         .as_ref()
         .expect("a soil solver gives its particles soil fields");
-    let displacement: Vec<Real> = fields.displacement.iter().map(|u| u.norm()).collect();
-    write_vtu(
-        dir.join("failing-state.vtu"),
-        &Frame::new(&soil.position)
-            .with(Field::vector("velocity", &soil.velocity))
-            .with(Field::scalar("displacement", &displacement))
-            .with(Field::scalar("plastic_strain", &fields.plastic_strain))
-            .with(Field::tensor("stress", &fields.stress)),
-    )?;
+    geosph_runner::output::write_particles(&dir.join("failing-state.vtu"), soil, solver)?;
     let largest = fields.plastic_strain.iter().copied().fold(0.0, Real::max);
     let threshold = SLIP_FRACTION * largest;
     let (mut still, mut slipped) = ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()));

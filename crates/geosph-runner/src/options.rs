@@ -27,3 +27,20 @@ pub struct RunOptions {
     /// current frame and a checkpoint and stops with [`RunError::Interrupted`].
     pub interrupt: Option<Arc<AtomicBool>>,
 }
+
+impl RunOptions {
+    /// Runs `work` on a pool of `threads` workers, or on rayon's global pool without a
+    /// thread count.
+    pub fn install<T: Send>(
+        &self,
+        work: impl FnOnce() -> T + Send,
+    ) -> Result<T, rayon::ThreadPoolBuildError> {
+        match self.threads {
+            Some(threads) => Ok(rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()?
+                .install(work)),
+            None => Ok(work()),
+        }
+    }
+}

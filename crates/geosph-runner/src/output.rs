@@ -180,7 +180,7 @@ impl RunOutput {
             return Ok(());
         };
         let file = format!("frames/{}_{:06}.vtu", self.name, self.frames);
-        write_sets(&self.dir.join(&file), fluid, solver)?;
+        write_particles(&self.dir.join(&file), fluid, solver)?;
         pvd.add(time, &file)?;
         self.frames += 1;
         Ok(())
@@ -196,14 +196,15 @@ impl RunOutput {
         solver: &dyn Solver<D>,
     ) -> Result<PathBuf, Error> {
         let path = self.dir.join(file);
-        write_sets(&path, fluid, solver)?;
+        write_particles(&path, fluid, solver)?;
         Ok(path)
     }
 }
 
 /// Writes the particles (set 0), with their fields and the quantities `solver` derives from
-/// them ([`Solver::output_scalars`]), and the solver's walls (set 1) to the VTU file `path`.
-fn write_sets<const D: usize>(
+/// them ([`Solver::output_scalars`]), and the solver's walls (set 1) to the VTU file `path`:
+/// the frames of a run, and any state an application wants to show the same way.
+pub fn write_particles<const D: usize>(
     path: &Path,
     fluid: &Particles<D>,
     solver: &dyn Solver<D>,

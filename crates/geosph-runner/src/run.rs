@@ -20,18 +20,12 @@ where
             reason,
         })?;
     }
-    let mut work = || match scene.dimension {
-        2 => run_plane(scene, options, observer),
-        _ => run_space(scene, options, observer),
-    };
-    match options.threads {
-        Some(threads) => rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|error| RunError::Threads(error.to_string()))?
-            .install(work),
-        None => work(),
-    }
+    options
+        .install(|| match scene.dimension {
+            2 => run_plane(scene, options, observer),
+            _ => run_space(scene, options, observer),
+        })
+        .map_err(|error| RunError::Threads(error.to_string()))?
 }
 
 /// A 2D run. Not generic, so that every solver is compiled once, in this crate, rather than

@@ -36,14 +36,14 @@ pub fn build_soil<const D: usize>(
 /// Builds the soil solver of `config` for `particles`, runs its geostatic stage and then the
 /// strength-reduction search `search` ([`SoilSolver::factor_of_safety`], which calls
 /// `on_trial` after each trial); on return `particles` holds the state of the smallest
-/// failing trial factor.
+/// failing trial factor, and the solver is returned with it (for output).
 pub fn factor_of_safety<const D: usize>(
     config: &SoilConfig,
     search: &StrengthReductionConfig,
     setup: SphSetup<D>,
     particles: &mut Particles<D>,
     on_trial: &mut dyn FnMut(&Trial),
-) -> Result<FactorOfSafety, SoilError> {
+) -> Result<(FactorOfSafety, Box<dyn Solver<D>>), SoilError> {
     config.validate()?;
     search.validate()?;
     let (kernel, h) = (setup.kernel, setup.smoothing_length);
@@ -128,7 +128,7 @@ struct StrengthReduction<'a, const D: usize> {
 }
 
 impl<const D: usize> KernelVisitor<D> for StrengthReduction<'_, D> {
-    type Output = Result<FactorOfSafety, SoilError>;
+    type Output = Result<(FactorOfSafety, Box<dyn Solver<D>>), SoilError>;
 
     fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
         let SoilBuilder {
@@ -136,11 +136,9 @@ impl<const D: usize> KernelVisitor<D> for StrengthReduction<'_, D> {
             setup,
             particles,
         } = self.builder;
-        soil_solver(config, setup, particles, kernel)?.factor_of_safety(
-            particles,
-            self.search,
-            self.on_trial,
-        )
+        let mut solver = soil_solver(config, setup, particles, kernel)?;
+        let result = solver.factor_of_safety(particles, self.search, self.on_trial)?;
+        Ok((result, Box::new(solver)))
     }
 }
 
