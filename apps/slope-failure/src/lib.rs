@@ -148,38 +148,53 @@ pub struct Sample {
     pub height_at_wall: Real,
     /// Kinetic energy of the soil, J (per metre in 2D).
     pub kinetic_energy: Real,
+    /// Checkerboard noise of the stress field, η = ‖σ − ⟨σ⟩_MLS‖/‖σ‖ over all particles
+    /// ([`geosph_soil::sph::stress_noise()`]; NaN if it could not be measured).
+    pub stress_noise: Real,
 }
 
 impl Sample {
     /// Column names of [`Sample::record`] in `runout.csv`.
-    pub const COLUMNS: [&'static str; 5] = [
+    pub const COLUMNS: [&'static str; 6] = [
         "t",
         "runout",
         "runout_front",
         "height_at_wall",
         "kinetic_energy",
+        "stress_noise",
     ];
 
-    /// The sample as one row: t, runout, front, height at the wall, kinetic energy (the
-    /// order of `runout.csv` and of the checkpointed series).
-    pub fn record(&self) -> [Real; 5] {
+    /// The sample as one row: t, runout, front, height at the wall, kinetic energy, stress
+    /// noise (the order of `runout.csv` and of the checkpointed series).
+    pub fn record(&self) -> [Real; 6] {
         [
             self.time,
             self.runout,
             self.front,
             self.height_at_wall,
             self.kinetic_energy,
+            self.stress_noise,
         ]
     }
 
     /// The inverse of [`Sample::record`].
-    pub fn from_record([time, runout, front, height_at_wall, kinetic_energy]: [Real; 5]) -> Self {
+    pub fn from_record(
+        [
+            time,
+            runout,
+            front,
+            height_at_wall,
+            kinetic_energy,
+            stress_noise,
+        ]: [Real; 6],
+    ) -> Self {
         Self {
             time,
             runout,
             front,
             height_at_wall,
             kinetic_energy,
+            stress_noise,
         }
     }
 }
@@ -221,7 +236,7 @@ impl RunoutTracker {
 
 impl<const D: usize> Observer<D> for RunoutTracker {
     fn columns(&self) -> Vec<&'static str> {
-        vec!["runout", "runout_front", "height_at_wall"]
+        vec!["runout", "runout_front", "height_at_wall", "stress_noise"]
     }
 
     fn sample(&mut self, time: Real, soil: &Particles<D>, row: &mut Vec<Real>) {
@@ -271,13 +286,15 @@ impl<const D: usize> Observer<D> for RunoutTracker {
             .zip(&soil.mass)
             .map(|(v, m)| 0.5 * m * v.norm_squared())
             .sum();
-        row.extend_from_slice(&[runout, front, height_at_wall]);
+        let stress_noise = geosph_soil::sph::stress_noise(soil, dx).unwrap_or(Real::NAN);
+        row.extend_from_slice(&[runout, front, height_at_wall, stress_noise]);
         self.samples.push(Sample {
             time,
             runout,
             front,
             height_at_wall,
             kinetic_energy,
+            stress_noise,
         });
         self.latest.clear();
         self.latest.extend(x.iter().map(|p| (p[0], p[up])));
@@ -366,6 +383,16 @@ impl std::fmt::Display for Report {
             self.peak_kinetic_energy,
             self.last.kinetic_energy,
             self.last.kinetic_energy / self.peak_kinetic_energy.max(Real::MIN_POSITIVE)
+        )?;
+        let (peak, at) = self
+            .samples
+            .iter()
+            .map(|s| (s.stress_noise, s.time))
+            .fold((0.0, 0.0), |best, s| if s.0 > best.0 { s } else { best });
+        write!(
+            f,
+            "\nstress noise       peak {peak:.3} at t = {at:.3} s, final {:.3} (|sigma - MLS fit|/|sigma|)",
+            self.last.stress_noise
         )?;
         if let Some(experiment) = &self.experiment {
             write!(f, "\n{experiment}")?;

@@ -12,7 +12,7 @@
 //! - [`geostatic`]: the geostatic stage ([`SoilSolver::run_geostatic_stage`]) with its
 //!   [`GeostaticReport`] and the release.
 //! - [`stress_check`]: the geostatic state against the 1D state and Janssen's arching.
-//! - [`stress_noise`]: [`StressNoise`], the checkerboard noise of a stress field.
+//! - [`stress_noise`]: [`stress_noise()`], the checkerboard noise of a stress field.
 //! - [`solver`]: [`SoilSolver`], the time step and the per-step bookkeeping.
 //! - [`strength_reduction`]: the factor of safety by strength reduction
 //!   ([`SoilSolver::factor_of_safety`]).
@@ -40,5 +40,5 @@ pub use geostatic::GeostaticReport;
 pub use solver::SoilSolver;
 pub use strength_reduction::{FactorOfSafety, Trial, TrialOutcome};
 pub use stress_check::{JanssenCheck, StressCheck, ZoneCheck};
-pub use stress_noise::StressNoise;
+pub use stress_noise::stress_noise;
 pub use system::SoilSystem;

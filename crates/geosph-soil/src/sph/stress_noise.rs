@@ -17,63 +17,42 @@ use geosph_neighbours::CellGrid;
 
 use crate::sph::regularise::{RegularisationScratch, smooth_stress};
 
-/// The noise meter of a soil with lattice spacing dx; keeps its work arrays between calls.
-#[derive(Clone, Debug)]
-pub struct StressNoise<const D: usize> {
-    kernel: WendlandC2<D>,
-    list: NeighbourList,
-    scratch: RegularisationScratch<D>,
-}
-
-impl<const D: usize> StressNoise<D> {
-    /// A meter for particles of spacing `spacing` (h = 1.3 dx).
-    pub fn new(spacing: Real) -> Self {
-        Self {
-            kernel: WendlandC2::new(1.3 * spacing),
-            list: NeighbourList::new(),
-            scratch: RegularisationScratch::default(),
-        }
+/// η of `soil` on a lattice of spacing `spacing` (0 for fewer than two particles or a
+/// stress-free soil; `None` where the particles cannot be searched: a non-finite position).
+/// Builds its own neighbour list each call (it is a measure taken at sample times, not a
+/// pass of the step).
+pub fn stress_noise<const D: usize>(soil: &Particles<D>, spacing: Real) -> Option<Real> {
+    let Some(fields) = soil.soil.as_ref().filter(|_| soil.len() > 1) else {
+        return Some(0.0);
+    };
+    let kernel = WendlandC2::<D>::new(1.3 * spacing);
+    let radius = kernel.support_radius();
+    let (mut min, mut max) = (
+        Vector::<D>::repeat(Real::MAX),
+        Vector::<D>::repeat(Real::MIN),
+    );
+    for x in &soil.position {
+        min = min.inf(x);
+        max = max.sup(x);
     }
-
-    /// η of `soil` (0 for fewer than two particles or a stress-free soil; `None` where the
-    /// particles cannot be searched: a non-finite position).
-    pub fn measure(&mut self, soil: &Particles<D>) -> Option<Real> {
-        let Some(fields) = soil.soil.as_ref().filter(|_| soil.len() > 1) else {
-            return Some(0.0);
-        };
-        let radius = self.kernel.support_radius();
-        let (mut min, mut max) = (
-            Vector::<D>::repeat(Real::MAX),
-            Vector::<D>::repeat(Real::MIN),
-        );
-        for x in &soil.position {
-            min = min.inf(x);
-            max = max.sup(x);
-        }
-        let margin = Vector::<D>::repeat(radius);
-        let domain = Domain::new(min - margin, max + margin).ok()?;
-        let mut grid = CellGrid::new(domain, radius).ok()?;
-        grid.build(&soil.position).ok()?;
-        grid.neighbour_list(&soil.position, &soil.position, &mut self.list);
-        let smoothed = smooth_stress(
-            &self.kernel,
-            grid.domain(),
-            &self.list,
-            soil,
-            true,
-            &mut self.scratch,
-        );
-        let (mut difference, mut magnitude) = (0.0, 0.0);
-        for (sigma, fit) in fields.stress.iter().zip(smoothed) {
-            difference += (sigma - fit).norm_squared();
-            magnitude += sigma.norm_squared();
-        }
-        Some(if magnitude > 0.0 {
-            (difference / magnitude).sqrt()
-        } else {
-            0.0
-        })
+    let margin = Vector::<D>::repeat(radius);
+    let domain = Domain::new(min - margin, max + margin).ok()?;
+    let mut grid = CellGrid::new(domain, radius).ok()?;
+    grid.build(&soil.position).ok()?;
+    let mut list = NeighbourList::new();
+    grid.neighbour_list(&soil.position, &soil.position, &mut list);
+    let mut scratch = RegularisationScratch::default();
+    let smoothed = smooth_stress(&kernel, grid.domain(), &list, soil, true, &mut scratch);
+    let (mut difference, mut magnitude) = (0.0, 0.0);
+    for (sigma, fit) in fields.stress.iter().zip(smoothed) {
+        difference += (sigma - fit).norm_squared();
+        magnitude += sigma.norm_squared();
     }
+    Some(if magnitude > 0.0 {
+        (difference / magnitude).sqrt()
+    } else {
+        0.0
+    })
 }
 
 #[cfg(test)]
@@ -103,8 +82,7 @@ mod tests {
         };
         let stress: Vec<Tensor3> = soil.position.iter().map(linear).collect();
         soil.enable_soil().stress.copy_from_slice(&stress);
-        let mut meter = StressNoise::new(dx);
-        let quiet = meter.measure(&soil).unwrap();
+        let quiet = stress_noise(&soil, dx).unwrap();
         assert!(quiet < 1e-10, "{quiet}");
 
         let amplitude = 500.0;
@@ -118,7 +96,7 @@ mod tests {
             sigma[(1, 1)] += sign * amplitude;
         }
         let scale = (fields.stress.iter().map(|s| s.norm_squared()).sum::<Real>() / 400.0).sqrt();
-        let noisy = meter.measure(&soil).unwrap();
+        let noisy = stress_noise(&soil, dx).unwrap();
         let bound = amplitude / scale;
         assert!(
             noisy > 0.1 * bound && noisy < 2.0 * bound,
