@@ -12,7 +12,7 @@
 //! - [`geostatic`]: the geostatic stage ([`SoilSolver::run_geostatic_stage`]) with its
 //!   [`GeostaticReport`] and the release.
 //! - [`stress_check`]: the geostatic state against the 1D state and Janssen's arching.
-//! - [`stress_noise`]: [`stress_noise()`], the checkerboard noise of a stress field.
+//! - [`mod@stress_noise`]: [`stress_noise()`], the checkerboard noise of a stress field.
 //! - [`solver`]: [`SoilSolver`], the time step and the per-step bookkeeping.
 //! - [`strength_reduction`]: the factor of safety by strength reduction
 //!   ([`SoilSolver::factor_of_safety`]).
