@@ -266,3 +266,30 @@ fn cspm_velocity_gradient_is_exact_for_a_linear_field_at_free_surfaces() {
     assert!(corrected < 1e-9, "corrected {corrected:.1e}");
     assert!(plain > 0.2, "plain {plain:.2}");
 }
+
+/// Columns of the bars at aspect ratios 1, 2 and 4 (`slope_failure::aspect_ratios`) at
+/// dx = 5 mm against the laws fitted to the experiments of Nguyen, Bui & Fukagawa (2015):
+/// final height h∞/h₀ = 1/(1.42 a^(2/3)) and run-out d∞/d₀ = 4.30 a^0.72 (the grain toe).
+///
+/// Tolerances from the convergence study of docs/soil.md ("Other aspect ratios"), dx = 5, 2.5
+/// and 1.25 mm: at 1.25 mm h∞ is within 5.4 % of the law (a = 1, 2, 4: −5.4, −2.0, +1.5 %) and
+/// moves by up to 8.1 % between 5 and 1.25 mm (a = 4, ten particles wide at 5 mm):
+/// |h∞/h∞,law − 1| ≤ 5.4 + 8.1 ≈ 13.5 %. The grain toe is at most 15.4 % short of the law at
+/// 1.25 mm (−10.3, −15.4, −2.4 %) and moves by up to 9.1 % between 5 and 1.25 mm:
+/// |d∞/d∞,law − 1| ≤ 15.4 + 9.1 ≈ 25 %. The law's two published forms differ by up to 4 %.
+#[test]
+fn aspect_ratios_against_the_experiments() {
+    for a in [1.0, 2.0, 4.0] {
+        let mut scene = slope_failure::aspect_ratios::column_scene(a);
+        scene.dx = 0.005;
+        let report = slope_failure::run(&scene, &RunOptions::default()).unwrap();
+        eprintln!("{report}");
+        let comparison = report.aspect_ratio.expect("a column of the bars");
+        let (height, measured_height) = comparison.final_height;
+        assert!((height / measured_height - 1.0).abs() <= 0.135, "{report}");
+        let (runout, Some(measured_runout), _) = comparison.runout else {
+            panic!("a = {a} has a run-out law");
+        };
+        assert!((runout / measured_runout - 1.0).abs() <= 0.25, "{report}");
+    }
+}

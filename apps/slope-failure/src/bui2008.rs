@@ -24,7 +24,7 @@ use geosph_io::ReferenceCurve;
 use geosph_scene::{Scene, SolverSpec};
 use geosph_soil::ConstitutiveConfig;
 
-use crate::Column;
+use crate::{Column, TOE_THICKNESS};
 
 /// A particle that moved less than this fraction of H since the release belongs to the
 /// non-deformed region (2 mm in the experiment: about one bar's diameter, below what its
@@ -45,9 +45,19 @@ pub fn failure_line() -> ReferenceCurve {
     ))
 }
 
-/// Whether `scene` is the experiment's set-up: a 2D column 0.2 m × 0.1 m of Drucker–Prager soil
-/// with ρ = 2650 kg/m³, φ = 19.8° and c = 0.
+/// Whether `scene` is the experiment's set-up: a 2D column 0.2 m × 0.1 m of the aluminium bars
+/// ([`is_aluminium_bars`]).
 pub fn is_experiment(scene: &Scene, column: &Column) -> bool {
+    let close = |a: Real, b: Real| (a - b).abs() <= 1e-9 * b.abs().max(1.0);
+    column.dimension == 2
+        && close(column.length, 0.2)
+        && close(column.height, 0.1)
+        && is_aluminium_bars(scene)
+}
+
+/// Whether the soil of `scene` is the experiment's material: Drucker–Prager soil with
+/// ρ = 2650 kg/m³, φ = 19.8° and c = 0.
+pub fn is_aluminium_bars(scene: &Scene) -> bool {
     let close = |a: Real, b: Real| (a - b).abs() <= 1e-9 * b.abs().max(1.0);
     let material = match &scene.solver {
         SolverSpec::Soil(config) => match &config.constitutive {
@@ -57,10 +67,7 @@ pub fn is_experiment(scene: &Scene, column: &Column) -> bool {
         _ => None,
     };
     let density = scene.fluid.as_ref().map(|soil| soil.density);
-    column.dimension == 2
-        && close(column.length, 0.2)
-        && close(column.height, 0.1)
-        && density.is_some_and(|rho| close(rho, 2650.0))
+    density.is_some_and(|rho| close(rho, 2650.0))
         && material.is_some_and(|m| close(m.friction_angle_deg, 19.8) && m.cohesion == 0.0)
 }
 
@@ -165,7 +172,10 @@ impl ExperimentComparison {
         Self {
             surface_error: (squares / norm).sqrt(),
             surface,
-            toe: (toe, measured_toe(&measured, column.height)),
+            toe: (
+                toe,
+                measured_toe(&measured, column.height, TOE_THICKNESS * column.height),
+            ),
             height_at_wall: (height_at_wall, measured.y[0]),
             failure_line: (
                 FailureLine::fit(&simulated_line),
@@ -175,11 +185,11 @@ impl ExperimentComparison {
     }
 }
 
-/// The largest x at which the area under `surface` over [x − H/10, x] is 0.1 H · H/10 (the
-/// rule of [`Column::deposit_toe`] for a measured curve), by bisection on each segment.
-fn measured_toe(surface: &ReferenceCurve, height: Real) -> Real {
+/// The largest x at which the area under `surface` over [x − H/10, x] is `thickness` · H/10
+/// (the rule of [`Column::toe`] for a measured curve), by bisection on each segment.
+pub fn measured_toe(surface: &ReferenceCurve, height: Real, thickness: Real) -> Real {
     let window = 0.1 * height;
-    let area_behind = |x: Real| integrate(surface, x - window, x) - 0.1 * height * window;
+    let area_behind = |x: Real| integrate(surface, x - window, x) - thickness * window;
     let (first, last) = (surface.x[0], *surface.x.last().expect("a measured surface"));
     let step = 0.25 * window;
     let mut high = last;
@@ -285,7 +295,7 @@ mod tests {
             x: vec![0.0, 0.4, 0.5],
             y: vec![0.1, 0.0, 0.0],
         };
-        assert!((measured_toe(&wedge, 0.1) - 0.365).abs() < 1e-9);
+        assert!((measured_toe(&wedge, 0.1, 0.01) - 0.365).abs() < 1e-9);
         assert!((integrate(&wedge, 0.3, 0.5) - 0.5 * 0.1 * 0.025).abs() < 1e-12);
     }
 }

@@ -14,14 +14,17 @@ use geosph_core::{Particles, Real};
 use geosph_runner::{Observer, RunOptions, Summary, push_records, take_records};
 use geosph_scene::{Region, Scene};
 
+pub mod aspect_ratios;
 pub mod bui2008;
 pub mod factor_of_safety;
+pub mod nguyen2015;
 mod output;
 
 pub use output::surface_profile;
 use output::write_outputs;
 
 pub use bui2008::ExperimentComparison;
+pub use nguyen2015::AspectRatioComparison;
 
 /// The embedded default scene (`data/scenes/granular-collapse.ron`).
 pub const DEFAULT_SCENE: &str = include_str!("../../../data/scenes/granular-collapse.ron");
@@ -107,19 +110,33 @@ impl Column {
     }
 
     /// The deposit toe (the runout), measured from the back wall, of particles at `x` (along
-    /// the runout direction) sorted in descending order: the front edge (x + dx/2) of the
-    /// foremost particle that has, within a distance b = H/10 behind it, enough soil for a
-    /// layer [`TOE_THICKNESS`] × H thick, i.e. at least ⌈0.1 H · b · B / dx^D⌉ particles
-    /// (itself included; B the breadth, dx^D the volume of a particle). Zero if no particle
-    /// qualifies.
+    /// the runout direction) sorted in descending order: [`Column::toe`] with a layer
+    /// [`TOE_THICKNESS`] × H thick.
     ///
     /// The foremost particles of a collapse are a sparse layer about one particle thick whose
     /// length grows as dx shrinks; this toe belongs to the deposit, a thickness in metres
     /// rather than in particles, so it is comparable between resolutions.
     pub fn deposit_toe(&self, x_descending: &[Real]) -> Real {
+        self.toe(x_descending, TOE_THICKNESS * self.height)
+    }
+
+    /// The grain toe: [`Column::toe`] with a layer [`GRAIN_THICKNESS`] thick, where the
+    /// deposit thins to one grain of the aluminium bars: the maximum run-out of the
+    /// experiments (Nguyen, Bui & Fukagawa 2015), which measure it to the last bars that
+    /// still lie in one layer.
+    pub fn grain_toe(&self, x_descending: &[Real]) -> Real {
+        self.toe(x_descending, GRAIN_THICKNESS)
+    }
+
+    /// The front edge (x + dx/2), measured from the back wall, of the foremost particle that
+    /// has, within a distance b = H/10 behind it, enough soil for a layer `thickness` thick,
+    /// i.e. at least ⌈thickness · b · B / dx^D⌉ particles (itself included; B the breadth,
+    /// dx^D the volume of a particle); `x_descending` sorted in descending order. Zero if no
+    /// particle qualifies.
+    pub fn toe(&self, x_descending: &[Real], thickness: Real) -> Real {
         let window = 0.1 * self.height;
         let particle_volume = self.spacing.powi(self.dimension as i32);
-        let needed = (TOE_THICKNESS * self.height * window * self.breadth / particle_volume - 1e-9)
+        let needed = (thickness * window * self.breadth / particle_volume - 1e-9)
             .ceil()
             .max(1.0) as usize;
         x_descending
@@ -133,6 +150,10 @@ impl Column {
 /// ([`Column::deposit_toe`]).
 pub const TOE_THICKNESS: Real = 0.1;
 
+/// Thickness of the deposit at its grain toe ([`Column::grain_toe`]), m: one grain of the
+/// aluminium bars of Bui et al. (2008) (1 and 1.5 mm in diameter), rounded up to 2 mm.
+pub const GRAIN_THICKNESS: Real = 0.002;
+
 /// One sample of the flow.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
@@ -144,6 +165,9 @@ pub struct Sample {
     /// 1.5 dx (so single detached particles do not count), plus dx/2, measured from the back
     /// wall. Grows as dx shrinks (the thin leading layer); use `runout` to compare runs.
     pub front: Real,
+    /// The grain toe ([`Column::grain_toe`]), measured from the back wall: where the deposit
+    /// thins to one grain, the experiments' maximum run-out.
+    pub grain_toe: Real,
     /// Height of the continuous soil column within 2 dx of the back wall, plus dx/2.
     pub height_at_wall: Real,
     /// Kinetic energy of the soil, J (per metre in 2D).
@@ -155,22 +179,24 @@ pub struct Sample {
 
 impl Sample {
     /// Column names of [`Sample::record`] in `runout.csv`.
-    pub const COLUMNS: [&'static str; 6] = [
+    pub const COLUMNS: [&'static str; 7] = [
         "t",
         "runout",
         "runout_front",
+        "runout_grain",
         "height_at_wall",
         "kinetic_energy",
         "stress_noise",
     ];
 
-    /// The sample as one row: t, runout, front, height at the wall, kinetic energy, stress
-    /// noise (the order of `runout.csv` and of the checkpointed series).
-    pub fn record(&self) -> [Real; 6] {
+    /// The sample as one row: t, runout, front, grain toe, height at the wall, kinetic energy,
+    /// stress noise (the order of `runout.csv` and of the checkpointed series).
+    pub fn record(&self) -> [Real; 7] {
         [
             self.time,
             self.runout,
             self.front,
+            self.grain_toe,
             self.height_at_wall,
             self.kinetic_energy,
             self.stress_noise,
@@ -183,15 +209,17 @@ impl Sample {
             time,
             runout,
             front,
+            grain_toe,
             height_at_wall,
             kinetic_energy,
             stress_noise,
-        ]: [Real; 6],
+        ]: [Real; 7],
     ) -> Self {
         Self {
             time,
             runout,
             front,
+            grain_toe,
             height_at_wall,
             kinetic_energy,
             stress_noise,
@@ -236,7 +264,13 @@ impl RunoutTracker {
 
 impl<const D: usize> Observer<D> for RunoutTracker {
     fn columns(&self) -> Vec<&'static str> {
-        vec!["runout", "runout_front", "height_at_wall", "stress_noise"]
+        vec![
+            "runout",
+            "runout_front",
+            "runout_grain",
+            "height_at_wall",
+            "stress_noise",
+        ]
     }
 
     fn sample(&mut self, time: Real, soil: &Particles<D>, row: &mut Vec<Real>) {
@@ -260,6 +294,7 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         self.sorted_x.clear();
         self.sorted_x.extend(self.order.iter().map(|&i| x[i][0]));
         let runout = column.deposit_toe(&self.sorted_x);
+        let grain_toe = column.grain_toe(&self.sorted_x);
         self.heights.clear();
         self.heights.extend(
             x.iter()
@@ -287,11 +322,12 @@ impl<const D: usize> Observer<D> for RunoutTracker {
             .map(|(v, m)| 0.5 * m * v.norm_squared())
             .sum();
         let stress_noise = geosph_soil::sph::stress_noise(soil, dx).unwrap_or(Real::NAN);
-        row.extend_from_slice(&[runout, front, height_at_wall, stress_noise]);
+        row.extend_from_slice(&[runout, front, grain_toe, height_at_wall, stress_noise]);
         self.samples.push(Sample {
             time,
             runout,
             front,
+            grain_toe,
             height_at_wall,
             kinetic_energy,
             stress_noise,
@@ -354,6 +390,9 @@ pub struct Report {
     /// The deposit against the experiment of Bui et al. (2008), when the scene is its set-up
     /// ([`bui2008::is_experiment`]).
     pub experiment: Option<ExperimentComparison>,
+    /// The deposit against the aspect-ratio laws of Nguyen et al. (2015), when the soil is the
+    /// aluminium bars ([`bui2008::is_aluminium_bars`]).
+    pub aspect_ratio: Option<AspectRatioComparison>,
 }
 
 impl std::fmt::Display for Report {
@@ -377,6 +416,11 @@ impl std::fmt::Display for Report {
             "farthest particles {:.4} m from the wall (the thin leading layer; grows as dx shrinks)",
             self.last.front
         )?;
+        writeln!(
+            f,
+            "grain toe          {:.4} m from the wall (where the deposit is one grain, {} m, thick)",
+            self.last.grain_toe, GRAIN_THICKNESS
+        )?;
         write!(
             f,
             "kinetic energy     peak {:.3e} J, final {:.3e} J (ratio {:.1e})",
@@ -396,6 +440,9 @@ impl std::fmt::Display for Report {
         )?;
         if let Some(experiment) = &self.experiment {
             write!(f, "\n{experiment}")?;
+        }
+        if let Some(comparison) = &self.aspect_ratio {
+            write!(f, "\n{comparison}")?;
         }
         Ok(())
     }
@@ -420,6 +467,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
             last.height_at_wall,
         )
     });
+    let aspect_ratio = (bui2008::is_aluminium_bars(scene) && nguyen2015::applies(&column))
+        .then(|| AspectRatioComparison::new(&column, &last));
     if let Some(dir) = &options.out_dir {
         write_outputs(dir, &column, &tracker, experiment.as_ref())?;
     }
@@ -435,6 +484,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
         last,
         peak_kinetic_energy,
         experiment,
+        aspect_ratio,
     })
 }
 

@@ -28,8 +28,18 @@ struct Cli {
     /// `factor_of_safety` settings or the defaults; writes factor-of-safety.csv,
     /// slip-surface.png and failing-state.vtu. Without --scene: the slope of Griffiths &
     /// Lane (1999), data/scenes/homogeneous-slope.ron.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "aspect_ratios")]
     factor_of_safety: bool,
+    /// With --factor-of-safety: afterwards, run the scene at its own strength (F = 1) through
+    /// the runner into <out>/run-out (VTU frames of the post-failure run-out when the factor
+    /// of safety is below 1; the slope at rest otherwise).
+    #[arg(long, requires = "factor_of_safety")]
+    run_out: bool,
+    /// Instead of one run, the shipped aluminium-bar columns at aspect ratios 0.5, 1, 2 and 4
+    /// in turn (each into its own folder), against the experiments of Nguyen et al. (2015)
+    /// and Bui et al. (2008); writes aspect-ratios.csv and aspect-ratios.png. Takes --dx.
+    #[arg(long, conflicts_with_all = ["scene", "end_time"])]
+    aspect_ratios: bool,
     /// Output, threads, progress, checkpoints and restart.
     #[command(flatten)]
     run: RunArgs,
@@ -61,6 +71,9 @@ fn load(cli: &Cli) -> Result<Scene, String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if cli.aspect_ratios {
+        return aspect_ratios(&cli);
+    }
     let scene = match load(&cli) {
         Ok(scene) => scene,
         Err(message) => {
@@ -88,7 +101,24 @@ fn main() -> ExitCode {
                 "slope-failure: --end-time is ignored by --factor-of-safety (each trial lasts at most `factor_of_safety.trial_time`)"
             );
         }
-        return factor_of_safety(&scene, &options, &out);
+        let Some(factor) = factor_of_safety(&scene, &options, &out) else {
+            return ExitCode::FAILURE;
+        };
+        if !cli.run_out {
+            return ExitCode::SUCCESS;
+        }
+        let mut options = options;
+        options.out_dir = Some(out.join("run-out"));
+        let fate = if factor < 1.0 {
+            "below 1: the slope fails at its own strength"
+        } else {
+            "at least 1: the run shows the slope at rest"
+        };
+        eprintln!(
+            "slope-failure: the run at F = 1 (the scene's own strength; factor of safety {factor:.3}, {fate}) -> {}",
+            out.join("run-out").display()
+        );
+        return run_without_column(&scene, &options);
     }
     eprintln!(
         "slope-failure: {} ({}D, dx = {} m, to t = {} s) -> {}",
@@ -98,6 +128,9 @@ fn main() -> ExitCode {
         scene.end_time,
         out.display()
     );
+    if slope_failure::Column::of(&scene).is_err() {
+        return run_without_column(&scene, &options);
+    }
     match slope_failure::run(&scene, &options) {
         Ok(report) => {
             println!("{}", report.summary);
@@ -124,11 +157,12 @@ fn main() -> ExitCode {
     }
 }
 
+/// The search and its report; the factor of safety, or `None` after printing the error.
 fn factor_of_safety(
     scene: &Scene,
     options: &geosph_runner::RunOptions,
     out: &std::path::Path,
-) -> ExitCode {
+) -> Option<f64> {
     eprintln!(
         "slope-failure: factor of safety of {} ({}D, dx = {} m) -> {}",
         scene.name,
@@ -144,11 +178,86 @@ fn factor_of_safety(
                 "output             {} (factor-of-safety.csv, slip-surface.png, failing-state.vtu)",
                 out.display()
             );
+            Some(result.factor)
+        }
+        Err(error) => {
+            eprintln!("error: {error}");
+            None
+        }
+    }
+}
+
+fn aspect_ratios(cli: &Cli) -> ExitCode {
+    let out = cli.out();
+    let options = match cli.run.options(out.clone()) {
+        Ok(options) if options.restart.is_some() || options.checkpoint_every.is_some() => {
+            eprintln!(
+                "error: --aspect-ratios runs a series, not one run: it takes no --restart or --checkpoint-every"
+            );
+            return ExitCode::FAILURE;
+        }
+        Ok(options) => options,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let mut started = |scene: &Scene| {
+        eprintln!(
+            "slope-failure: {} (dx = {} m, to t = {} s)",
+            scene.name, scene.dx, scene.end_time
+        );
+    };
+    match slope_failure::aspect_ratios::run(cli.dx, &options, &mut started) {
+        Ok(reports) => {
+            for report in &reports {
+                if let Some(comparison) = &report.aspect_ratio {
+                    println!("{comparison}");
+                }
+            }
+            println!(
+                "output             {} (aspect-ratios.csv, aspect-ratios.png; one folder per column)",
+                out.display()
+            );
             ExitCode::SUCCESS
+        }
+        Err(slope_failure::Error::Run(error @ RunError::Interrupted { .. })) => {
+            eprintln!("slope-failure: {error}");
+            ExitCode::from(interrupt::EXIT_INTERRUPTED)
         }
         Err(error) => {
             eprintln!("error: {error}");
             ExitCode::FAILURE
+        }
+    }
+}
+
+/// A scene whose first soil block is not a column (a slope): the runner's frames and summary,
+/// without the runout measures.
+fn run_without_column(scene: &Scene, options: &geosph_runner::RunOptions) -> ExitCode {
+    eprintln!(
+        "slope-failure: {} ({}D, dx = {} m, to t = {} s; not a column: no runout measures)",
+        scene.name, scene.dimension, scene.dx, scene.end_time
+    );
+    match geosph_runner::run(scene, options, &mut geosph_runner::NoObserver) {
+        Ok(summary) => {
+            println!("{summary}");
+            if let Some(dir) = &options.out_dir {
+                println!(
+                    "output             {} (open {}.pvd in ParaView: displacement, plastic strain, stress)",
+                    dir.display(),
+                    scene.name
+                );
+            }
+            ExitCode::SUCCESS
+        }
+        Err(error @ RunError::Interrupted { .. }) => {
+            eprintln!("slope-failure: {error}");
+            ExitCode::from(interrupt::EXIT_INTERRUPTED)
+        }
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::from(error.exit_code())
         }
     }
 }
