@@ -3,11 +3,14 @@
 //! the back wall, and writes `runout.csv`, `runout.png` (front and wall height against time),
 //! `deposit.csv` (the final position and displacement of every soil particle) and
 //! `deposit.png` (initial and final surface profiles, with the experiment's surface and failure
-//! line when the scene is the set-up of Bui et al. 2008, see [`bui2008`]) next to the runner's
-//! VTU frames.
+//! line when the scene is the set-up of Bui et al. 2008, see [`bui2008`], and the run-out and
+//! final height of the laws of Nguyen et al. 2015 for any column of the same bars, see
+//! [`nguyen2015`]) next to the runner's VTU frames.
 //!
 //! The column is the scene's first soil block (a box) with its back wall at the box's lower x;
-//! the soil runs out towards +x. `main.rs` is a thin command line around [`run`].
+//! the soil runs out towards +x. `main.rs` is a thin command line around [`run`], the
+//! factor-of-safety search ([`factor_of_safety`]) and the aspect-ratio series
+//! ([`aspect_ratios`]).
 #![warn(missing_docs)]
 
 use geosph_core::{Particles, Real};
@@ -89,7 +92,8 @@ impl Column {
         let Some(Region::Box { min, max }) = soil.blocks.first() else {
             return Err(Error::Scene(
                 "the first soil block must be a Box (the column whose runout this app measures; \
-                 for the factor of safety of another shape use --factor-of-safety)"
+                 `slope-failure` runs other shapes without runout measures, and searches their \
+                 factor of safety with --factor-of-safety)"
                     .into(),
             ));
         };
@@ -470,7 +474,13 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     let aspect_ratio = (bui2008::is_aluminium_bars(scene) && nguyen2015::applies(&column))
         .then(|| AspectRatioComparison::new(&column, &last));
     if let Some(dir) = &options.out_dir {
-        write_outputs(dir, &column, &tracker, experiment.as_ref())?;
+        write_outputs(
+            dir,
+            &column,
+            &tracker,
+            experiment.as_ref(),
+            aspect_ratio.as_ref(),
+        )?;
     }
     let samples = tracker.samples;
     let peak_kinetic_energy = samples

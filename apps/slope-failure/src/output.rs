@@ -5,7 +5,9 @@ use std::path::Path;
 use geosph_core::Real;
 use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
 
-use crate::{Column, Error, ExperimentComparison, RunoutTracker, Sample, bui2008};
+use crate::{
+    AspectRatioComparison, Column, Error, ExperimentComparison, RunoutTracker, Sample, bui2008,
+};
 
 /// The surface of a particle set: the highest particle (+ dx/2) in each x bin of width dx.
 pub fn surface_profile(points: &[(Real, Real)], spacing: Real) -> (Vec<Real>, Vec<Real>) {
@@ -25,6 +27,7 @@ pub(crate) fn write_outputs(
     column: &Column,
     tracker: &RunoutTracker,
     experiment: Option<&ExperimentComparison>,
+    aspect_ratio: Option<&AspectRatioComparison>,
 ) -> Result<(), Error> {
     let samples = &tracker.samples;
     write_csv_atomically(
@@ -109,6 +112,27 @@ pub(crate) fn write_outputs(
             y: ly,
         });
     }
+    // The laws of Nguyen et al. (2015): the run-out on the floor, the final height at the wall.
+    let laws = aspect_ratio.and_then(|comparison| {
+        let runout = comparison.runout.1?;
+        Some((
+            [column.wall + runout * column.length, column.wall],
+            [
+                column.base,
+                column.base + comparison.final_height.1 * column.height,
+            ],
+        ))
+    });
+    let points = laws
+        .as_ref()
+        .map(|(x, y)| {
+            vec![Series {
+                label: "experiments' run-out and final height (Nguyen et al. 2015)",
+                x,
+                y,
+            }]
+        })
+        .unwrap_or_default();
     line_plot_png(
         dir.join("deposit.png"),
         &PlotSpec {
@@ -116,6 +140,7 @@ pub(crate) fn write_outputs(
             x_label: "x (m)",
             y_label: "surface height (m)",
             lines,
+            points,
             ..Default::default()
         },
     )?;
