@@ -268,28 +268,29 @@ fn cspm_velocity_gradient_is_exact_for_a_linear_field_at_free_surfaces() {
 }
 
 /// Columns of the bars at aspect ratios 1, 2 and 4 (`slope_failure::aspect_ratios`) at
-/// dx = 5 mm against the laws fitted to the experiments of Nguyen, Bui & Fukagawa (2015):
+/// dx = 2.5 mm against the laws fitted to the experiments of Nguyen, Bui & Fukagawa (2015):
 /// final height h∞/h₀ = 1/(1.42 a^(2/3)) and run-out d∞/d₀ = 4.30 a^0.72 (the grain toe).
 ///
-/// Tolerances from the convergence study of docs/soil.md ("Other aspect ratios"), dx = 5, 2.5
-/// and 1.25 mm: at 1.25 mm h∞ is within 5.4 % of the law (a = 1, 2, 4: −5.4, −2.1, +1.5 %) and
-/// moves by up to 8.1 % between 5 and 1.25 mm (a = 4, ten particles wide at 5 mm):
-/// |h∞/h∞,law − 1| ≤ 5.4 + 8.1 ≈ 13.5 %. The grain toe is at most 10.3 % short of the law at
-/// 1.25 mm (−10.3, −1.0, −2.4 %) and moves by up to 7.1 % between 5 and 1.25 mm:
-/// |d∞/d∞,law − 1| ≤ 10.3 + 7.1 ≈ 17.5 %. The law's two published forms differ by up to 4 %.
+/// Tolerances from the convergence study of docs/soil.md ("Other aspect ratios"): at
+/// dx = 1.25 mm h∞ is within 5.4 % of the law (a = 1, 2, 4: −5.4, −2.1, +1.5 %) and moves by
+/// up to 2.8 % from 2.5 to 1.25 mm: |h∞/h∞,law − 1| ≤ 5.4 + 2.8 ≈ 8.2 %. The grain toe is at
+/// most 10.3 % short of the law at 1.25 mm (−10.3, −1.0, −2.4 %) and moves by up to 6.7 % from
+/// 2.5 to 1.25 mm: |d∞/d∞,law − 1| ≤ 10.3 + 6.7 = 17 %. At 5 mm the thin end of the deposit is
+/// not resolved (the grain toe 16–25 % short), so the test runs at 2.5 mm. The law's two
+/// published forms differ by up to 6 %.
 #[test]
 fn aspect_ratios_against_the_experiments() {
     for a in [1.0, 2.0, 4.0] {
         let mut scene = slope_failure::aspect_ratios::column_scene(a);
-        scene.dx = 0.005;
+        scene.dx = 0.0025;
         let report = slope_failure::run(&scene, &RunOptions::default()).unwrap();
         eprintln!("{report}");
         let comparison = report.aspect_ratio.expect("a column of the bars");
         let (height, measured_height) = comparison.final_height;
-        assert!((height / measured_height - 1.0).abs() <= 0.135, "{report}");
+        assert!((height / measured_height - 1.0).abs() <= 0.082, "{report}");
         let (runout, Some(measured_runout), _) = comparison.runout else {
             panic!("a = {a} has a run-out law");
         };
-        assert!((runout / measured_runout - 1.0).abs() <= 0.175, "{report}");
+        assert!((runout / measured_runout - 1.0).abs() <= 0.17, "{report}");
     }
 }

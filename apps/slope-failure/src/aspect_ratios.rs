@@ -1,6 +1,7 @@
 //! `slope-failure --aspect-ratios`: columns of the aluminium bars of the default scene at
-//! aspect ratios a = 0.5, 1, 2 and 4 in turn ([`column_scene`]), each into its own folder, and their deposits side by side
-//! against the experiments: `aspect-ratios.csv` and `aspect-ratios.png` (the normalised run-out
+//! aspect ratios a = 0.5, 1, 2 and 4 in turn ([`column_scene`]), each into its own folder
+//! `bar-column-a<a>`, and their deposits side by side against the experiments:
+//! `aspect-ratios.csv` and `aspect-ratios.png` (the normalised run-out
 //! d∞/d₀ and final height h∞/h₀ against a, with the laws of Nguyen et al. 2015,
 //! [`crate::nguyen2015`], and the measured deposit of Bui et al. 2008 at a = 0.5).
 
@@ -12,9 +13,11 @@ use geosph_runner::RunOptions;
 use geosph_scene::{Region, Scene, SolverSpec, WallSpec};
 use geosph_soil::sph::ReleaseBox;
 
-use crate::{DEFAULT_SCENE, Error, GRAIN_THICKNESS, Report, bui2008, nguyen2015};
+use crate::{DEFAULT_SCENE, Error, Report, bui2008, nguyen2015};
 
-/// The aspect ratios a = h₀/d₀ of the series.
+/// The aspect ratios a = h₀/d₀ of the series: the experiment of Bui et al. (2008), 0.5, and
+/// three in the range of the laws of Nguyen et al. (2015), a ≥ 0.65 (the issue asks for
+/// a = 1, 2 and one larger).
 pub const ASPECT_RATIOS: [Real; 4] = [0.5, 1.0, 2.0, 4.0];
 
 /// The collapse of a column of the bars with aspect ratio `a`: the default scene (Bui et al.
@@ -36,6 +39,7 @@ pub fn column_scene(a: Real) -> Scene {
             max: vec![length, height],
         };
     }
+    // The default scene's walls: the tank and one polyline, the retaining wall.
     for wall in &mut scene.walls {
         match wall {
             WallSpec::Tank { max, .. } => *max = vec![tank, height + 0.15],
@@ -78,18 +82,6 @@ pub fn run(
         write_series(dir, &reports)?;
     }
     Ok(reports)
-}
-
-/// d∞/d₀ and h∞/h₀ of the measured deposit of Bui et al. (2008) (a = 0.5): its grain toe (the
-/// rule of [`crate::Column::grain_toe`] applied to the measured surface) and its height at the
-/// wall.
-pub fn bui2008_deposit() -> (Real, Real) {
-    let (length, height) = (0.2, 0.1);
-    let surface = bui2008::final_surface();
-    (
-        bui2008::measured_toe(&surface, height, GRAIN_THICKNESS) / length,
-        surface.y[0] / height,
-    )
 }
 
 fn write_series(dir: &Path, reports: &[Report]) -> Result<(), Error> {
@@ -139,7 +131,8 @@ fn write_series(dir: &Path, reports: &[Report]) -> Result<(), Error> {
         .iter()
         .map(|&a| nguyen2015::final_height_ratio(a))
         .collect();
-    let (bui_runout, bui_height) = bui2008_deposit();
+    let bui_runout = bui2008::measured_grain_toe() / bui2008::COLUMN_LENGTH;
+    let bui_height = bui2008::final_surface().y[0] / bui2008::COLUMN_HEIGHT;
     line_plot_png(
         dir.join("aspect-ratios.png"),
         &PlotSpec {

@@ -24,7 +24,7 @@ use geosph_io::ReferenceCurve;
 use geosph_scene::{Scene, SolverSpec};
 use geosph_soil::ConstitutiveConfig;
 
-use crate::{Column, TOE_THICKNESS};
+use crate::{Column, GRAIN_THICKNESS, TOE_THICKNESS};
 
 /// A particle that moved less than this fraction of H since the release belongs to the
 /// non-deformed region (2 mm in the experiment: about one bar's diameter, below what its
@@ -45,20 +45,29 @@ pub fn failure_line() -> ReferenceCurve {
     ))
 }
 
-/// Whether `scene` is the experiment's set-up: a 2D column 0.2 m × 0.1 m of the aluminium bars
-/// ([`is_aluminium_bars`]).
+/// Length d₀ of the experiment's column, m.
+pub const COLUMN_LENGTH: Real = 0.2;
+
+/// Height h₀ of the experiment's column, m.
+pub const COLUMN_HEIGHT: Real = 0.1;
+
+/// Whether `a` and `b` agree to rounding.
+fn close(a: Real, b: Real) -> bool {
+    (a - b).abs() <= 1e-9 * b.abs().max(1.0)
+}
+
+/// Whether `scene` is the experiment's set-up: a 2D column [`COLUMN_LENGTH`] ×
+/// [`COLUMN_HEIGHT`] of the aluminium bars ([`is_aluminium_bars`]).
 pub fn is_experiment(scene: &Scene, column: &Column) -> bool {
-    let close = |a: Real, b: Real| (a - b).abs() <= 1e-9 * b.abs().max(1.0);
     column.dimension == 2
-        && close(column.length, 0.2)
-        && close(column.height, 0.1)
+        && close(column.length, COLUMN_LENGTH)
+        && close(column.height, COLUMN_HEIGHT)
         && is_aluminium_bars(scene)
 }
 
 /// Whether the soil of `scene` is the experiment's material: Drucker–Prager soil with
 /// ρ = 2650 kg/m³, φ = 19.8° and c = 0.
 pub fn is_aluminium_bars(scene: &Scene) -> bool {
-    let close = |a: Real, b: Real| (a - b).abs() <= 1e-9 * b.abs().max(1.0);
     let material = match &scene.solver {
         SolverSpec::Soil(config) => match &config.constitutive {
             ConstitutiveConfig::DruckerPrager { material, .. } => Some(material),
@@ -69,6 +78,13 @@ pub fn is_aluminium_bars(scene: &Scene) -> bool {
     let density = scene.fluid.as_ref().map(|soil| soil.density);
     density.is_some_and(|rho| close(rho, 2650.0))
         && material.is_some_and(|m| close(m.friction_angle_deg, 19.8) && m.cohesion == 0.0)
+}
+
+/// The grain toe of the measured surface (m from the wall): the rule of
+/// [`Column::grain_toe`] applied to the curve, [`GRAIN_THICKNESS`] of soil over the H/10
+/// behind it.
+pub fn measured_grain_toe() -> Real {
+    measured_toe(&final_surface(), COLUMN_HEIGHT, GRAIN_THICKNESS)
 }
 
 /// A straight failure line: its angle to the floor and where it meets the floor.
@@ -114,6 +130,8 @@ pub struct ExperimentComparison {
     pub surface: Vec<Real>,
     /// The simulated and the measured toe (m from the wall).
     pub toe: (Real, Real),
+    /// The simulated and the measured grain toe (m from the wall).
+    pub grain_toe: (Real, Real),
     /// The simulated and the measured height at the wall (m).
     pub height_at_wall: (Real, Real),
     /// The simulated failure line (none when no band has a non-deformed particle) and the
@@ -123,13 +141,12 @@ pub struct ExperimentComparison {
 
 impl ExperimentComparison {
     /// Compares the particles at `points` (x, height) that moved by `displacement` since the
-    /// release, with the simulated toe `toe` and height at the wall `height_at_wall`.
+    /// release, with the last sample `last` (its toes and height at the wall).
     pub fn new(
         column: &Column,
         points: &[(Real, Real)],
         displacement: &[Real],
-        toe: Real,
-        height_at_wall: Real,
+        last: &crate::Sample,
     ) -> Self {
         let measured = final_surface();
         let dx = column.spacing;
@@ -173,10 +190,11 @@ impl ExperimentComparison {
             surface_error: (squares / norm).sqrt(),
             surface,
             toe: (
-                toe,
+                last.runout,
                 measured_toe(&measured, column.height, TOE_THICKNESS * column.height),
             ),
-            height_at_wall: (height_at_wall, measured.y[0]),
+            grain_toe: (last.grain_toe, measured_grain_toe()),
+            height_at_wall: (last.height_at_wall, measured.y[0]),
             failure_line: (
                 FailureLine::fit(&simulated_line),
                 FailureLine::fit(&measured_line).expect("the stored failure line falls"),
@@ -249,6 +267,13 @@ impl std::fmt::Display for ExperimentComparison {
             self.toe.0,
             self.toe.1,
             100.0 * (self.toe.0 / self.toe.1 - 1.0)
+        )?;
+        writeln!(
+            f,
+            "  grain toe        {:.4} m, experiment {:.4} m ({:+.1} %; the measured surface is 1-3 mm high there, read to +-1.5 mm)",
+            self.grain_toe.0,
+            self.grain_toe.1,
+            100.0 * (self.grain_toe.0 / self.grain_toe.1 - 1.0)
         )?;
         writeln!(
             f,

@@ -14,7 +14,7 @@
 #![warn(missing_docs)]
 
 use geosph_core::{Particles, Real};
-use geosph_runner::{Observer, RunOptions, Summary, push_records, take_records};
+use geosph_runner::{Observer, RunOptions, push_records, take_records};
 use geosph_scene::{Region, Scene};
 
 pub mod aspect_ratios;
@@ -22,12 +22,14 @@ pub mod bui2008;
 pub mod factor_of_safety;
 pub mod nguyen2015;
 mod output;
+mod report;
 
 pub use output::surface_profile;
 use output::write_outputs;
 
 pub use bui2008::ExperimentComparison;
 pub use nguyen2015::AspectRatioComparison;
+pub use report::Report;
 
 /// The embedded default scene (`data/scenes/granular-collapse.ron`).
 pub const DEFAULT_SCENE: &str = include_str!("../../../data/scenes/granular-collapse.ron");
@@ -125,11 +127,12 @@ impl Column {
     }
 
     /// The grain toe: [`Column::toe`] with a layer [`GRAIN_THICKNESS`] thick, where the
-    /// deposit thins to one grain of the aluminium bars: the maximum run-out of the
-    /// experiments (Nguyen, Bui & Fukagawa 2015), which measure it to the last bars that
-    /// still lie in one layer.
+    /// deposit thins to one grain of the aluminium bars, or one particle layer (dx) thick
+    /// when dx is coarser than a grain (a particle stands for soil dx thick, and a lone
+    /// particle is not a deposit). Compared with the maximum run-out of the experiments of
+    /// Nguyen, Bui & Fukagawa (2015).
     pub fn grain_toe(&self, x_descending: &[Real]) -> Real {
-        self.toe(x_descending, GRAIN_THICKNESS)
+        self.toe(x_descending, GRAIN_THICKNESS.max(self.spacing))
     }
 
     /// The front edge (x + dx/2), measured from the back wall, of the foremost particle that
@@ -374,81 +377,15 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         self.initial = points(&mut state)?;
         self.latest = points(&mut state)?;
         self.displacement = take_records(&mut state)?.into_iter().map(|[u]| u).collect();
-        Ok(())
-    }
-}
-
-/// The result of a run.
-#[derive(Clone, Debug)]
-pub struct Report {
-    /// The runner's summary (with the geostatic stage's report, if the scene had one).
-    pub summary: Summary,
-    /// The initial column.
-    pub column: Column,
-    /// Front, wall height and kinetic energy at every sample time.
-    pub samples: Vec<Sample>,
-    /// The final sample.
-    pub last: Sample,
-    /// Largest kinetic energy of the run.
-    pub peak_kinetic_energy: Real,
-    /// The deposit against the experiment of Bui et al. (2008), when the scene is its set-up
-    /// ([`bui2008::is_experiment`]).
-    pub experiment: Option<ExperimentComparison>,
-    /// The deposit against the aspect-ratio laws of Nguyen et al. (2015), when the soil is the
-    /// aluminium bars ([`bui2008::is_aluminium_bars`]).
-    pub aspect_ratio: Option<AspectRatioComparison>,
-}
-
-impl std::fmt::Display for Report {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        writeln!(
-            f,
-            "column             L = {:.3} m, H = {:.3} m, dx = {} m",
-            self.column.length, self.column.height, self.column.spacing
-        )?;
-        writeln!(
-            f,
-            "final runout       {:.4} m from the wall (L_f/L = {:.3}; deposit toe, {} H thick), height at the wall {:.4} m (H_f/H = {:.3})",
-            self.last.runout,
-            self.last.runout / self.column.length,
-            TOE_THICKNESS,
-            self.last.height_at_wall,
-            self.last.height_at_wall / self.column.height
-        )?;
-        writeln!(
-            f,
-            "farthest particles {:.4} m from the wall (the thin leading layer; grows as dx shrinks)",
-            self.last.front
-        )?;
-        writeln!(
-            f,
-            "grain toe          {:.4} m from the wall (where the deposit is one grain, {} m, thick)",
-            self.last.grain_toe, GRAIN_THICKNESS
-        )?;
-        write!(
-            f,
-            "kinetic energy     peak {:.3e} J, final {:.3e} J (ratio {:.1e})",
-            self.peak_kinetic_energy,
-            self.last.kinetic_energy,
-            self.last.kinetic_energy / self.peak_kinetic_energy.max(Real::MIN_POSITIVE)
-        )?;
-        let (peak, at) = self
-            .samples
-            .iter()
-            .map(|s| (s.stress_noise, s.time))
-            .fold((0.0, 0.0), |best, s| if s.0 > best.0 { s } else { best });
-        write!(
-            f,
-            "\nstress noise       peak {peak:.3} at t = {at:.3} s, final {:.3} (|sigma - MLS fit|/|sigma|)",
-            self.last.stress_noise
-        )?;
-        if let Some(experiment) = &self.experiment {
-            write!(f, "\n{experiment}")?;
+        if state.is_empty() {
+            Ok(())
+        } else {
+            Err(
+                "the runout series in the checkpoint has another layout (written by another \
+                 version of slope-failure)"
+                    .into(),
+            )
         }
-        if let Some(comparison) = &self.aspect_ratio {
-            write!(f, "\n{comparison}")?;
-        }
-        Ok(())
     }
 }
 
@@ -462,17 +399,10 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
         .samples
         .last()
         .ok_or_else(|| Error::Scene("the run produced no sample".into()))?;
-    let experiment = bui2008::is_experiment(scene, &column).then(|| {
-        ExperimentComparison::new(
-            &column,
-            &tracker.latest,
-            &tracker.displacement,
-            last.runout,
-            last.height_at_wall,
-        )
-    });
-    let aspect_ratio = (bui2008::is_aluminium_bars(scene) && nguyen2015::applies(&column))
-        .then(|| AspectRatioComparison::new(&column, &last));
+    let experiment = bui2008::is_experiment(scene, &column)
+        .then(|| ExperimentComparison::new(&column, &tracker.latest, &tracker.displacement, &last));
+    let aspect_ratio =
+        nguyen2015::applies(scene, &column).then(|| AspectRatioComparison::new(&column, &last));
     if let Some(dir) = &options.out_dir {
         write_outputs(
             dir,

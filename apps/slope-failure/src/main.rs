@@ -1,5 +1,7 @@
 //! `slope-failure`: runs the granular column collapse of Bui et al. (2008) (or a given soil
-//! scene) and writes the runout, the deposit profile and VTU frames.
+//! scene) and writes the runout, the deposit profile and VTU frames; or searches a slope's
+//! factor of safety (`--factor-of-safety`, then its run at F = 1 with `--run-out`); or runs
+//! columns of the same bars at four aspect ratios against experiments (`--aspect-ratios`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -7,7 +9,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use geosph_runner::cli::RunArgs;
 use geosph_runner::{RunError, interrupt};
-use geosph_scene::Scene;
+use geosph_scene::{Region, Scene};
 
 /// Granular column collapse and slope failure with elastoplastic soil SPH.
 #[derive(Debug, Parser)]
@@ -30,14 +32,15 @@ struct Cli {
     /// Lane (1999), data/scenes/homogeneous-slope.ron.
     #[arg(long, conflicts_with = "aspect_ratios")]
     factor_of_safety: bool,
-    /// With --factor-of-safety: afterwards, run the scene at its own strength (F = 1) through
-    /// the runner into <out>/run-out (VTU frames of the post-failure run-out when the factor
-    /// of safety is below 1; the slope at rest otherwise).
+    /// With --factor-of-safety: afterwards, run the scene at its own strength (F = 1) to its
+    /// end time (--end-time) into <out>/run-out: VTU frames of the post-failure run-out when
+    /// the factor of safety is below 1, of the slope at rest otherwise.
     #[arg(long, requires = "factor_of_safety")]
     run_out: bool,
-    /// Instead of one run, the shipped aluminium-bar columns at aspect ratios 0.5, 1, 2 and 4
-    /// in turn (each into its own folder), against the experiments of Nguyen et al. (2015)
-    /// and Bui et al. (2008); writes aspect-ratios.csv and aspect-ratios.png. Takes --dx.
+    /// Instead of one run, columns of the default scene's aluminium bars at aspect ratios 0.5,
+    /// 1, 2 and 4 in turn (generated from the default scene, each into <out>/bar-column-a<a>),
+    /// against the experiments of Nguyen et al. (2015) and Bui et al. (2008); writes
+    /// aspect-ratios.csv and aspect-ratios.png. Takes --dx.
     #[arg(long, conflicts_with_all = ["scene", "end_time"])]
     aspect_ratios: bool,
     /// Output, threads, progress, checkpoints and restart.
@@ -90,13 +93,10 @@ fn main() -> ExitCode {
         }
     };
     if cli.factor_of_safety {
-        if options.restart.is_some() || options.checkpoint_every.is_some() {
-            eprintln!(
-                "error: --factor-of-safety runs trials, not one run: it takes no --restart or --checkpoint-every"
-            );
-            return ExitCode::FAILURE;
+        if let Err(code) = one_run_only(&options, "--factor-of-safety runs trials") {
+            return code;
         }
-        if cli.end_time.is_some() {
+        if cli.end_time.is_some() && !cli.run_out {
             eprintln!(
                 "slope-failure: --end-time is ignored by --factor-of-safety (each trial lasts at most `factor_of_safety.trial_time`)"
             );
@@ -112,13 +112,15 @@ fn main() -> ExitCode {
         let fate = if factor < 1.0 {
             "below 1: the slope fails at its own strength"
         } else {
-            "at least 1: the run shows the slope at rest"
+            "at least 1: the frames show the slope at rest"
         };
         eprintln!(
-            "slope-failure: the run at F = 1 (the scene's own strength; factor of safety {factor:.3}, {fate}) -> {}",
+            "slope-failure: the run-out of {} at F = 1 (its own strength; factor of safety {factor:.3}, {fate}), to t = {} s -> {}",
+            scene.name,
+            scene.end_time,
             out.join("run-out").display()
         );
-        return run_without_column(&scene, &options);
+        return run_frames(&scene, &options);
     }
     eprintln!(
         "slope-failure: {} ({}D, dx = {} m, to t = {} s) -> {}",
@@ -128,8 +130,15 @@ fn main() -> ExitCode {
         scene.end_time,
         out.display()
     );
-    if slope_failure::Column::of(&scene).is_err() {
-        return run_without_column(&scene, &options);
+    let column = scene
+        .fluid
+        .as_ref()
+        .is_none_or(|soil| matches!(soil.blocks.first(), Some(Region::Box { .. })));
+    if !column {
+        eprintln!(
+            "slope-failure: the first soil block is not a box, so no column to measure: VTU frames and diagnostics only"
+        );
+        return run_frames(&scene, &options);
     }
     match slope_failure::run(&scene, &options) {
         Ok(report) => {
@@ -142,17 +151,38 @@ fn main() -> ExitCode {
             );
             ExitCode::SUCCESS
         }
-        Err(slope_failure::Error::Run(error @ RunError::Interrupted { .. })) => {
-            eprintln!("slope-failure: {error}");
+        Err(error) => failure(error, None),
+    }
+}
+
+/// Refuses `--restart` and `--checkpoint-every` for a mode that is not one run.
+fn one_run_only(options: &geosph_runner::RunOptions, mode: &str) -> Result<(), ExitCode> {
+    if options.restart.is_some() || options.checkpoint_every.is_some() {
+        eprintln!("error: {mode}, not one run: it takes no --restart or --checkpoint-every");
+        return Err(ExitCode::FAILURE);
+    }
+    Ok(())
+}
+
+/// Prints `error` and returns the exit status: 3 for a blow-up (its report is in the output
+/// folder), the interrupt status after Ctrl-C (with `rerun`, what to do instead of a restart),
+/// 1 otherwise.
+fn failure(error: slope_failure::Error, rerun: Option<&str>) -> ExitCode {
+    match error {
+        slope_failure::Error::Run(error @ RunError::Interrupted { .. }) => {
+            match rerun {
+                Some(rerun) => eprintln!("slope-failure: interrupted; {rerun}"),
+                None => eprintln!("slope-failure: {error}"),
+            }
             ExitCode::from(interrupt::EXIT_INTERRUPTED)
         }
-        Err(error) => {
+        slope_failure::Error::Run(error) => {
             eprintln!("error: {error}");
-            match error {
-                // 3 for a blow-up (the report is in the output folder), 1 otherwise.
-                slope_failure::Error::Run(error) => ExitCode::from(error.exit_code()),
-                _ => ExitCode::FAILURE,
-            }
+            ExitCode::from(error.exit_code())
+        }
+        error => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
         }
     }
 }
@@ -187,21 +217,19 @@ fn factor_of_safety(
     }
 }
 
+/// The aspect-ratio series ([`slope_failure::aspect_ratios`]).
 fn aspect_ratios(cli: &Cli) -> ExitCode {
     let out = cli.out();
     let options = match cli.run.options(out.clone()) {
-        Ok(options) if options.restart.is_some() || options.checkpoint_every.is_some() => {
-            eprintln!(
-                "error: --aspect-ratios runs a series, not one run: it takes no --restart or --checkpoint-every"
-            );
-            return ExitCode::FAILURE;
-        }
         Ok(options) => options,
         Err(message) => {
             eprintln!("error: {message}");
             return ExitCode::FAILURE;
         }
     };
+    if let Err(code) = one_run_only(&options, "--aspect-ratios runs a series") {
+        return code;
+    }
     let mut started = |scene: &Scene| {
         eprintln!(
             "slope-failure: {} (dx = {} m, to t = {} s)",
@@ -211,6 +239,9 @@ fn aspect_ratios(cli: &Cli) -> ExitCode {
     match slope_failure::aspect_ratios::run(cli.dx, &options, &mut started) {
         Ok(reports) => {
             for report in &reports {
+                if let Some(experiment) = &report.experiment {
+                    println!("{experiment}");
+                }
                 if let Some(comparison) = &report.aspect_ratio {
                     println!("{comparison}");
                 }
@@ -221,24 +252,16 @@ fn aspect_ratios(cli: &Cli) -> ExitCode {
             );
             ExitCode::SUCCESS
         }
-        Err(slope_failure::Error::Run(error @ RunError::Interrupted { .. })) => {
-            eprintln!("slope-failure: {error}");
-            ExitCode::from(interrupt::EXIT_INTERRUPTED)
-        }
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::FAILURE
-        }
+        Err(error) => failure(
+            error,
+            Some("a series cannot be restarted: run --aspect-ratios again into a new folder"),
+        ),
     }
 }
 
-/// A scene whose first soil block is not a column (a slope): the runner's frames and summary,
-/// without the runout measures.
-fn run_without_column(scene: &Scene, options: &geosph_runner::RunOptions) -> ExitCode {
-    eprintln!(
-        "slope-failure: {} ({}D, dx = {} m, to t = {} s; not a column: no runout measures)",
-        scene.name, scene.dimension, scene.dx, scene.end_time
-    );
+/// Runs `scene` through the runner with no runout measures: VTU frames, diagnostics and the
+/// summary (a slope, or the run-out after a factor-of-safety search).
+fn run_frames(scene: &Scene, options: &geosph_runner::RunOptions) -> ExitCode {
     match geosph_runner::run(scene, options, &mut geosph_runner::NoObserver) {
         Ok(summary) => {
             println!("{summary}");
@@ -251,13 +274,6 @@ fn run_without_column(scene: &Scene, options: &geosph_runner::RunOptions) -> Exi
             }
             ExitCode::SUCCESS
         }
-        Err(error @ RunError::Interrupted { .. }) => {
-            eprintln!("slope-failure: {error}");
-            ExitCode::from(interrupt::EXIT_INTERRUPTED)
-        }
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::from(error.exit_code())
-        }
+        Err(error) => failure(error.into(), None),
     }
 }

@@ -38,6 +38,7 @@ pub(crate) fn write_outputs(
     let t: Vec<Real> = samples.iter().map(|s| s.time).collect();
     let runout: Vec<Real> = samples.iter().map(|s| s.runout).collect();
     let front: Vec<Real> = samples.iter().map(|s| s.front).collect();
+    let grain_toe: Vec<Real> = samples.iter().map(|s| s.grain_toe).collect();
     let height: Vec<Real> = samples.iter().map(|s| s.height_at_wall).collect();
     line_plot_png(
         dir.join("runout.png"),
@@ -55,6 +56,11 @@ pub(crate) fn write_outputs(
                     label: "farthest particles",
                     x: &t,
                     y: &front,
+                },
+                Series {
+                    label: "grain toe (one grain or one particle layer thick)",
+                    x: &t,
+                    y: &grain_toe,
                 },
                 Series {
                     label: "height at the wall",
