@@ -74,19 +74,19 @@ fn load(cli: &Cli) -> Result<Scene, String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    if cli.aspect_ratios {
-        return aspect_ratios(&cli);
-    }
-    let scene = match load(&cli) {
-        Ok(scene) => scene,
+    let out = cli.out();
+    let options = match cli.run.options(out.clone()) {
+        Ok(options) => options,
         Err(message) => {
             eprintln!("error: {message}");
             return ExitCode::FAILURE;
         }
     };
-    let out = cli.out();
-    let options = match cli.run.options(out.clone()) {
-        Ok(options) => options,
+    if cli.aspect_ratios {
+        return aspect_ratios(cli.dx, &options, &out);
+    }
+    let scene = match load(&cli) {
+        Ok(scene) => scene,
         Err(message) => {
             eprintln!("error: {message}");
             return ExitCode::FAILURE;
@@ -218,16 +218,12 @@ fn factor_of_safety(
 }
 
 /// The aspect-ratio series ([`slope_failure::aspect_ratios`]).
-fn aspect_ratios(cli: &Cli) -> ExitCode {
-    let out = cli.out();
-    let options = match cli.run.options(out.clone()) {
-        Ok(options) => options,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::FAILURE;
-        }
-    };
-    if let Err(code) = one_run_only(&options, "--aspect-ratios runs a series") {
+fn aspect_ratios(
+    dx: Option<f64>,
+    options: &geosph_runner::RunOptions,
+    out: &std::path::Path,
+) -> ExitCode {
+    if let Err(code) = one_run_only(options, "--aspect-ratios runs a series") {
         return code;
     }
     let mut started = |scene: &Scene| {
@@ -236,7 +232,7 @@ fn aspect_ratios(cli: &Cli) -> ExitCode {
             scene.name, scene.dx, scene.end_time
         );
     };
-    match slope_failure::aspect_ratios::run(cli.dx, &options, &mut started) {
+    match slope_failure::aspect_ratios::run(dx, options, &mut started) {
         Ok(reports) => {
             for report in &reports {
                 if let Some(experiment) = &report.experiment {
