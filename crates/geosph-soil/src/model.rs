@@ -105,6 +105,22 @@ impl Constitutive for SoilModel {
     }
 }
 
+impl SoilModel {
+    /// The ratio K₀ = σ_h/σ_v of soil at rest: Jaky's (1944) 1 − sin φ for Drucker–Prager,
+    /// ν/(1 − ν) (no lateral strain) for the elastic model.
+    pub fn lateral_ratio_at_rest(&self) -> Real {
+        match self {
+            Self::LinearElastic(model) => {
+                let nu = model.elastic().poisson_ratio;
+                nu / (1.0 - nu)
+            }
+            Self::DruckerPrager(model) => {
+                1.0 - model.material().friction_angle_deg.to_radians().sin()
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,6 +8,7 @@ use geosph_sph::{ArtificialMonaghan1992, Solver, SphSetup};
 use crate::constitutive::Constitutive;
 use crate::sph::config::StrengthReductionConfig;
 use crate::sph::config::{ConfigError, SoilConfig, SoilError};
+use crate::sph::diffusion::MeanStressDiffusion;
 use crate::sph::solver::SoilSolver;
 use crate::sph::strength_reduction::{FactorOfSafety, Trial};
 use crate::sph::system::SoilSystem;
@@ -100,6 +101,19 @@ fn soil_solver<const D: usize, K: Kernel<D>>(
         config.neighbour_skin,
     )?;
     system.set_velocity_gradient_correction(config.velocity_gradient_correction);
+    system.set_mean_stress_diffusion(config.stress_diffusion.map(|diffusion| {
+        MeanStressDiffusion::new(
+            diffusion.delta,
+            kernel.smoothing_length(),
+            wave_speed,
+            model.elastic().bulk_modulus,
+            system.gravity,
+            system.rest_density,
+            diffusion
+                .lateral_ratio
+                .unwrap_or(model.lateral_ratio_at_rest()),
+        )
+    }));
     system.lists.reorder_every = config.reorder_every;
     let mut solver = SoilSolver::new(system, config.cfl);
     solver.regularisation = config.regularisation;

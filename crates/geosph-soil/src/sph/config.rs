@@ -38,6 +38,28 @@ fn default_exponent() -> Real {
     4.0
 }
 
+/// Diffusion of the mean stress against the checkerboard of the stress field, after Feng et al.
+/// (2021), with the density following it
+/// ([`MeanStressDiffusion`](crate::sph::diffusion::MeanStressDiffusion)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct StressDiffusionConfig {
+    /// δ of the diffusivity δ h c, in (0, 1] (default 0.1, as Feng et al. 2021).
+    pub delta: Real,
+    /// K₀ = σ_h/σ_v of the lithostatic state taken out of the stress differences, in [0, 2]
+    /// (default: the model's, Jaky's 1 − sin φ or the elastic ν/(1 − ν)).
+    pub lateral_ratio: Option<Real>,
+}
+
+impl Default for StressDiffusionConfig {
+    fn default() -> Self {
+        Self {
+            delta: 0.1,
+            lateral_ratio: None,
+        }
+    }
+}
+
 /// Stress regularisation every `every` steps (Nguyen et al. 2017).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -150,6 +172,8 @@ pub struct SoilConfig {
     pub damping: Option<Real>,
     /// Stress regularisation (default off).
     pub regularisation: Option<RegularisationConfig>,
+    /// Diffusion of the mean stress (default off).
+    pub stress_diffusion: Option<StressDiffusionConfig>,
     /// CSPM correction of the velocity gradient, exact for linear velocity fields also at free
     /// surfaces (default off).
     pub velocity_gradient_correction: bool,
@@ -190,6 +214,7 @@ impl Default for SoilConfig {
             artificial_stress: None,
             damping: None,
             regularisation: None,
+            stress_diffusion: None,
             velocity_gradient_correction: false,
             walls: SoilWallConfig::default(),
             geostatic: None,
@@ -324,6 +349,12 @@ impl SoilConfig {
         }
         if let Some(xi) = self.damping {
             in_range("damping", xi, 0.0, 1.0)?;
+        }
+        if let Some(diffusion) = self.stress_diffusion {
+            in_range("stress_diffusion.delta", diffusion.delta, 1e-6, 1.0)?;
+            if let Some(ratio) = diffusion.lateral_ratio {
+                in_range("stress_diffusion.lateral_ratio", ratio, 0.0, 2.0)?;
+            }
         }
         if let Some(RegularisationConfig::Shepard { every } | RegularisationConfig::Mls { every }) =
             self.regularisation
@@ -498,6 +529,21 @@ mod tests {
         };
         let error = material.validate().unwrap_err();
         assert_eq!(error.field, "constitutive.youngs_modulus");
+        for (text, field) in [
+            (
+                "(stress_diffusion: Some((delta: 0.0)))",
+                "stress_diffusion.delta",
+            ),
+            (
+                "(stress_diffusion: Some((lateral_ratio: Some(-0.5))))",
+                "stress_diffusion.lateral_ratio",
+            ),
+        ] {
+            let config: SoilConfig = ron::from_str(text).unwrap();
+            assert_eq!(config.validate().unwrap_err().field, field, "{text}");
+        }
+        let diffusion: SoilConfig = ron::from_str("(stress_diffusion: Some(()))").unwrap();
+        assert_eq!(diffusion.stress_diffusion.unwrap().delta, 0.1);
         let unknown = ron::from_str::<SoilConfig>("(cfl: 0.1, damping_ratio: 0.2)");
         assert!(unknown.unwrap_err().to_string().contains("damping_ratio"));
     }

@@ -141,6 +141,10 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     if config.free_slip_walls {
         solver.system.wall_config.slip = WallSlip::FreeSlip;
     }
+    // The stage seeks a static state, which the mean-stress diffusion would only slow (its
+    // lithostatic ratio K₀ is Jaky's, not the material's oedometric one): it acts in the run.
+    let diffusion = solver.system.mean_stress_diffusion();
+    solver.system.set_mean_stress_diffusion(None);
     let relaxation = relax(
         solver,
         soil,
@@ -149,6 +153,7 @@ fn run_stage<const D: usize, K: Kernel<D>>(
         config.kinetic_energy_tolerance,
         |_| false,
     );
+    solver.system.set_mean_stress_diffusion(diffusion);
     let Relaxation {
         steps,
         time,

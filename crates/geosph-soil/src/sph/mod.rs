@@ -7,6 +7,8 @@
 //! - [`system`]: [`SoilSystem`], one explicit step (velocity gradient, continuity, stress
 //!   update, momentum in symmetric form), monomorphised over kernel and switchable terms.
 //! - [`terms`]: artificial viscosity (Monaghan 1992) and artificial stress (Gray et al. 2001).
+//! - [`diffusion`]: diffusion of the mean stress against the checkerboard (after Feng et al.
+//!   2021), with the density following it.
 //! - [`walls`]: Bui's β rule for dummy velocities and the wall-stress extrapolation.
 //! - [`regularise`]: Shepard and MLS stress regularisation (Nguyen et al. 2017).
 //! - [`geostatic`]: the geostatic stage ([`SoilSolver::run_geostatic_stage`]) with its
@@ -19,6 +21,7 @@
 
 pub mod build;
 pub mod config;
+pub mod diffusion;
 pub mod geostatic;
 pub mod regularise;
 pub(crate) mod relaxation;
@@ -34,8 +37,9 @@ pub use build::{build_soil, factor_of_safety};
 pub use config::{
     ArtificialStressConfig, ArtificialViscosityConfig, ConfigError, GeostaticConfig,
     RegularisationConfig, ReleaseBox, SoilConfig, SoilError, SoilWallConfig,
-    StrengthReductionConfig, WallSlip, WallStress,
+    StrengthReductionConfig, StressDiffusionConfig, WallSlip, WallStress,
 };
+pub use diffusion::MeanStressDiffusion;
 pub use geostatic::GeostaticReport;
 pub use solver::SoilSolver;
 pub use strength_reduction::{FactorOfSafety, Trial, TrialOutcome};

@@ -11,9 +11,11 @@ use geosph_sph::{ArtificialMonaghan1992, PairLists, SphSetup};
 use rayon::prelude::*;
 
 use crate::constitutive::Constitutive;
+use crate::invariants::mean_pressure;
 use crate::kinematics::{spin, strain_rate};
 use crate::model::SoilModel;
 use crate::sph::config::SoilWallConfig;
+use crate::sph::diffusion::MeanStressDiffusion;
 use crate::sph::terms::{ArtificialStressGray2001, block};
 use crate::sph::walls::dummy_velocity;
 
@@ -30,7 +32,9 @@ const MIN_CHUNK: usize = 256;
 ///   ε̇ = ½(L + Lᵀ), ω = ½(L − Lᵀ), embedded in 3×3 (plane strain in 2D); optionally
 ///   CSPM-corrected ([`SoilSystem::set_velocity_gradient_correction`]);
 /// - continuity: dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij;
-/// - stress: σ_i ← [`Constitutive::update`](σ_i, ε̇ Δt, ω Δt) (Jaumann rate, return map);
+/// - stress: σ_i ← [`Constitutive::update`](σ_i, ε̇ Δt, ω Δt) (Jaumann rate, return map),
+///   after the optional diffusion of the mean stress ([`MeanStressDiffusion`], from σ^n, with
+///   ρ_i following it);
 /// - momentum (symmetric form, Bui et al. 2008 eq. 32, with eq. 33 and Gray et al. 2001):
 ///   dv_i/dt = Σ_j m_j (σ_i/ρ_i² + σ_j/ρ_j² − Π_ij 1 + f_ij^n (R_i + R_j))·∇_i W_ij + g
 ///   − μ_d v_i, the stresses multiplied by the lattice correction 1/f
@@ -76,6 +80,9 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>> {
     damping_rate: Real,
     /// Whether L_i is CSPM-corrected.
     correct_velocity_gradient: bool,
+    diffusion: Option<MeanStressDiffusion<D>>,
+    /// (dp_i/dt)_diff of the mean-stress diffusion.
+    pressure_diffusion: Vec<Real>,
     wall_stress: Vec<Tensor3>,
     wall_term: Vec<Matrix<D>>,
     velocity_gradient: Vec<Matrix<D>>,
@@ -131,6 +138,8 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             repulsive,
             damping_rate: 0.0,
             correct_velocity_gradient: false,
+            diffusion: None,
+            pressure_diffusion: Vec::new(),
             wall_stress: Vec::new(),
             wall_term: Vec::new(),
             velocity_gradient: Vec::new(),
@@ -167,6 +176,17 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
     /// kinematics pass is compiled twice).
     pub fn set_velocity_gradient_correction(&mut self, on: bool) {
         self.correct_velocity_gradient = on;
+    }
+
+    /// Switches the diffusion of the mean stress ([`MeanStressDiffusion`]; `None`: off, which
+    /// costs nothing: the kinematics pass is compiled with and without it).
+    pub fn set_mean_stress_diffusion(&mut self, diffusion: Option<MeanStressDiffusion<D>>) {
+        self.diffusion = diffusion;
+    }
+
+    /// The diffusion of the mean stress, if on.
+    pub fn mean_stress_diffusion(&self) -> Option<MeanStressDiffusion<D>> {
+        self.diffusion
     }
 
     /// The accelerations of the last step, damping included.
@@ -240,6 +260,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         let n = soil.len();
         self.velocity_gradient.resize(n, Matrix::zeros());
         self.density_rate.resize(n, 0.0);
+        self.pressure_diffusion.resize(n, 0.0);
         self.stress_term.resize(n, Matrix::zeros());
         self.tensile_term.resize(n, Matrix::zeros());
         self.acceleration.resize(n, Vector::zeros());
@@ -251,10 +272,15 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
     /// Advances the soil by `dt` (see the type's documentation for the scheme).
     pub fn step(&mut self, soil: &mut Particles<D>, dt: Real) -> Result<(), SearchError> {
         self.update_lists(soil)?;
-        if self.correct_velocity_gradient {
-            self.kinematics::<true>(soil);
-        } else {
-            self.kinematics::<false>(soil);
+        if self.diffusion.is_some() {
+            // The diffusion towards the walls needs σ_w of σ^n.
+            self.update_walls(soil);
+        }
+        match (self.correct_velocity_gradient, self.diffusion.is_some()) {
+            (false, false) => self.kinematics::<false, false>(soil),
+            (true, false) => self.kinematics::<true, false>(soil),
+            (false, true) => self.kinematics::<false, true>(soil),
+            (true, true) => self.kinematics::<true, true>(soil),
         }
         self.update_stress(soil, dt);
         self.update_walls(soil);
@@ -286,8 +312,9 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         Ok(())
     }
 
-    /// L_i and dρ_i/dt of every soil particle from v^n; with `CORRECT`, L_i is CSPM-corrected.
-    fn kinematics<const CORRECT: bool>(&mut self, soil: &Particles<D>) {
+    /// L_i and dρ_i/dt of every soil particle from v^n; with `CORRECT`, L_i is CSPM-corrected;
+    /// with `DIFFUSE`, (dp_i/dt)_diff of the mean-stress diffusion from σ^n.
+    fn kinematics<const CORRECT: bool, const DIFFUSE: bool>(&mut self, soil: &Particles<D>) {
         let Self {
             kernel,
             lists,
@@ -296,8 +323,11 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             velocity_gradient,
             density_rate,
             rest_density,
+            diffusion,
+            pressure_diffusion,
             ..
         } = self;
+        let diffusion = *diffusion;
         let (kernel, lists, walls, rest_density) = (*kernel, &*lists, &*walls, *rest_density);
         let free_slip = wall_config.slip.slips();
         let beta_max = wall_config.beta_max;
@@ -306,18 +336,30 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             velocity,
             mass,
             density,
+            soil: fields,
             ..
         } = soil;
+        let stress = &fields
+            .as_ref()
+            .expect("soil particles carry soil fields")
+            .stress;
         velocity_gradient
             .par_iter_mut()
             .zip(density_rate.par_iter_mut())
+            .zip(pressure_diffusion.par_iter_mut())
             .enumerate()
             .with_min_len(MIN_CHUNK)
-            .for_each(|(i, (gradient, rate))| {
+            .for_each(|(i, ((gradient, rate), pressure_rate))| {
                 let (x_i, v_i) = (position[i], velocity[i]);
                 let mut l = Matrix::<D>::zeros();
                 let mut moment = Matrix::<D>::zeros();
                 let mut drho = 0.0;
+                let p_i = if DIFFUSE {
+                    mean_pressure(&stress[i])
+                } else {
+                    0.0
+                };
+                let mut diffusion_sum = 0.0;
                 lists.for_each_neighbour(&kernel, position, i, |pair| {
                     let (j, grad) = (pair.index, pair.grad);
                     let dv = velocity[j] - v_i;
@@ -325,6 +367,10 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                     l += (dv * volume) * grad.transpose();
                     if CORRECT {
                         moment -= (grad * volume) * pair.r_ij.transpose();
+                    }
+                    if DIFFUSE && let Some(diffusion) = &diffusion {
+                        let p_j = mean_pressure(&stress[j]);
+                        diffusion_sum += diffusion.pair(p_i, p_j, &pair.r_ij, &grad, volume);
                     }
                     drho -= mass[j] * dv.dot(&grad);
                 });
@@ -346,6 +392,10 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                     if CORRECT {
                         moment -= (grad * volume) * pair.r_ij.transpose();
                     }
+                    if DIFFUSE && let Some(diffusion) = &diffusion {
+                        let p_w = walls.pressure[w];
+                        diffusion_sum += diffusion.wall_pair(p_i, p_w, &pair.r_ij, &grad, volume);
+                    }
                     drho -= rest_density * volume * dv.dot(&grad);
                 });
                 if CORRECT
@@ -356,6 +406,9 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 }
                 *gradient = l;
                 *rate = drho;
+                if DIFFUSE && let Some(diffusion) = &diffusion {
+                    *pressure_rate = diffusion.rate(diffusion_sum);
+                }
             });
     }
 
@@ -368,6 +421,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         } = soil;
         let fields = fields.as_mut().expect("soil particles carry soil fields");
         let (model, artificial_stress) = (self.model, self.artificial_stress);
+        let diffusion = self.diffusion;
         let correction = self.gradient_correction;
         (
             density.par_iter_mut(),
@@ -376,23 +430,31 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             fields.plastic_strain.par_iter_mut(),
             self.velocity_gradient.par_iter(),
             self.density_rate.par_iter(),
+            self.pressure_diffusion.par_iter(),
             self.stress_term.par_iter_mut(),
             self.tensile_term.par_iter_mut(),
         )
             .into_par_iter()
             .with_min_len(MIN_CHUNK)
-            .for_each(|(rho, sigma, strain, plastic, l, rate, term, tensile)| {
-                *rho += rate * dt;
-                let strain_increment = strain_rate(l) * dt;
-                let update = model.update(sigma, &strain_increment, &(spin(l) * dt));
-                *sigma = update.stress;
-                *strain += strain_increment;
-                *plastic += update.equivalent_plastic_strain_increment;
-                let stress_block = block::<D>(sigma);
-                *term = stress_block * (correction / (*rho * *rho));
-                if let Some(artificial_stress) = &artificial_stress {
-                    *tensile = artificial_stress.particle_term(sigma, *rho);
-                }
-            });
+            .for_each(
+                |(rho, sigma, strain, plastic, l, rate, dp, term, tensile)| {
+                    if let Some(diffusion) = &diffusion {
+                        let pressure_change = dp * dt;
+                        *sigma -= Tensor3::identity() * pressure_change;
+                        *rho *= 1.0 + diffusion.volumetric_strain(pressure_change);
+                    }
+                    *rho += rate * dt;
+                    let strain_increment = strain_rate(l) * dt;
+                    let update = model.update(sigma, &strain_increment, &(spin(l) * dt));
+                    *sigma = update.stress;
+                    *strain += strain_increment;
+                    *plastic += update.equivalent_plastic_strain_increment;
+                    let stress_block = block::<D>(sigma);
+                    *term = stress_block * (correction / (*rho * *rho));
+                    if let Some(artificial_stress) = &artificial_stress {
+                        *tensile = artificial_stress.particle_term(sigma, *rho);
+                    }
+                },
+            );
     }
 }
