@@ -7,7 +7,7 @@ use geosph_sph::{ArtificialMonaghan1992, Solver, SphSetup};
 
 use crate::constitutive::Constitutive;
 use crate::sph::config::StrengthReductionConfig;
-use crate::sph::config::{ConfigError, SoilConfig, SoilError};
+use crate::sph::config::{ConfigError, SoilConfig, SoilError, WallStress};
 use crate::sph::diffusion::MeanStressDiffusion;
 use crate::sph::solver::SoilSolver;
 use crate::sph::strength_reduction::{FactorOfSafety, Trial};
@@ -112,6 +112,7 @@ fn soil_solver<const D: usize, K: Kernel<D>>(
             diffusion
                 .lateral_ratio
                 .unwrap_or(model.lateral_ratio_at_rest()),
+            config.walls.stress == WallStress::Extrapolated,
         )
     }));
     system.lists.reorder_every = config.reorder_every;

@@ -44,7 +44,7 @@ fn default_exponent() -> Real {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct StressDiffusionConfig {
-    /// δ of the diffusivity δ h c, in (0, 1] (default 0.1, as Feng et al. 2021).
+    /// δ of the diffusivity δ h c, in [10⁻⁶, 1] (default 0.1, as Feng et al. 2021).
     pub delta: Real,
     /// K₀ = σ_h/σ_v of the lithostatic state taken out of the stress differences, in [0, 2]
     /// (default: the model's, Jaky's 1 − sin φ or the elastic ν/(1 − ν)).

@@ -11,12 +11,17 @@ use geosph_core::{Real, Vector};
 /// ```text
 /// (dp_i/dt)_diff = 2 δ h c Σ_j V_j [(p_i − p_j) − (p^L_i − p^L_j)] (r_ij·∇_i W_ij)/(r_ij² + 0.01 h²)
 /// p^L_i − p^L_j = ρ₀ (g·r_ij) (1 + 2K₀)/3            (soil j: σ^L = −ρ₀ g d (ĝĝᵀ + K₀(1 − ĝĝᵀ)))
-/// p^L_i − p^L_w = ρ₀ (g·r_iw)/3                       (wall j = w, whose stress is extrapolated along g)
+/// p^L_i − p^L_w = ρ₀ (g·r_iw)/3 + 2K₀ρ₀ g·(x_i − x̄_w)/3   (wall j = w)
 /// σ_i ← σ_i − Δt (dp_i/dt)_diff 1,   ρ_i ← ρ_i (1 + Δt (dp_i/dt)_diff / K)
 /// ```
 ///
 /// c is the P-wave speed, K the bulk modulus; j runs over soil and wall particles (a wall
-/// particle with the stress σ_w it shows the soil). The sum approximates δ h c ∇²p (Brookshaw
+/// particle with the mean of the stress σ_w it shows the soil). σ_w is the kernel average
+/// of the soil around w with σ_v extrapolated along g to x_w
+/// ([`WallStress::Extrapolated`](crate::sph::config::WallStress)), so of a lithostatic
+/// field it holds σ_v at x_w and σ_h at x̄_w, the kernel-weighted centre of that soil; with
+/// [`WallStress::Shepard`](crate::sph::config::WallStress) (no extrapolation) both are at
+/// x̄_w and the wall term is (1 + 2K₀)ρ₀ g·(x_i − x̄_w)/3. The sum approximates δ h c ∇²p (Brookshaw
 /// 1985): a checkerboard decays in about dx²/(δ h c), a smooth field changes by O(h).
 ///
 /// Why the mean stress only, and why the density follows (`docs/soil.md`, "Stress noise"): a
@@ -36,8 +41,10 @@ pub struct MeanStressDiffusion<const D: usize> {
     gravity: Vector<D>,
     /// ρ₀ (1 + 2K₀)/3: the lithostatic difference of p between soil particles per unit g·r_ij.
     soil_lithostatic: Real,
-    /// ρ₀/3: the same towards a wall particle.
-    wall_lithostatic: Real,
+    /// ρ₀/3 towards a wall particle whose σ_v is extrapolated to it (0 without extrapolation).
+    wall_vertical: Real,
+    /// The rest of the wall term, about the soil's centre x̄_w.
+    wall_centre: Real,
     /// 1/K.
     compliance: Real,
 }
@@ -46,7 +53,8 @@ impl<const D: usize> MeanStressDiffusion<D> {
     /// The term with coefficient `delta` (δ; Feng et al. 2021 use 0.1), smoothing length
     /// `smoothing_length`, wave speed `wave_speed`, bulk modulus `bulk_modulus`, and the
     /// lithostatic state of `gravity`, `rest_density` and lateral ratio `lateral_ratio`
-    /// (K₀ = σ_h/σ_v).
+    /// (K₀ = σ_h/σ_v); `extrapolated_walls` when the wall stress is extrapolated along g.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         delta: Real,
         smoothing_length: Real,
@@ -55,13 +63,21 @@ impl<const D: usize> MeanStressDiffusion<D> {
         gravity: Vector<D>,
         rest_density: Real,
         lateral_ratio: Real,
+        extrapolated_walls: bool,
     ) -> Self {
+        let vertical = rest_density / 3.0;
+        let lateral = 2.0 * lateral_ratio * rest_density / 3.0;
         Self {
             coefficient: 2.0 * delta * smoothing_length * wave_speed,
             softening: 0.01 * smoothing_length * smoothing_length,
             gravity,
-            soil_lithostatic: rest_density * (1.0 + 2.0 * lateral_ratio) / 3.0,
-            wall_lithostatic: rest_density / 3.0,
+            soil_lithostatic: vertical + lateral,
+            wall_vertical: if extrapolated_walls { vertical } else { 0.0 },
+            wall_centre: if extrapolated_walls {
+                lateral
+            } else {
+                vertical + lateral
+            },
             compliance: 1.0 / bulk_modulus,
         }
     }
@@ -81,17 +97,28 @@ impl<const D: usize> MeanStressDiffusion<D> {
         difference * volume_j * r_ij.dot(gradient) / (r_ij.norm_squared() + self.softening)
     }
 
-    /// A wall pair's term, with the mean stress p_w of the wall particle's σ_w.
+    /// g·x, the height coordinate the lithostatic terms use (for x̄_w of [`Self::wall_pair`]).
+    #[inline(always)]
+    pub fn level(&self, x: &Vector<D>) -> Real {
+        self.gravity.dot(x)
+    }
+
+    /// A wall pair's term, with the mean stress p_w of the wall particle's σ_w and
+    /// `centre_offset` = g·(x_i − x̄_w):
+    /// V_w [(p_i − p_w) − (p^L_i − p^L_w)] (r_iw·∇_i W_iw)/(r² + 0.01 h²).
     #[inline(always)]
     pub fn wall_pair(
         &self,
         pressure_i: Real,
         pressure_w: Real,
         r_iw: &Vector<D>,
+        centre_offset: Real,
         gradient: &Vector<D>,
         volume_w: Real,
     ) -> Real {
-        let difference = pressure_i - pressure_w - self.wall_lithostatic * self.gravity.dot(r_iw);
+        let lithostatic =
+            self.wall_vertical * self.gravity.dot(r_iw) + self.wall_centre * centre_offset;
+        let difference = pressure_i - pressure_w - lithostatic;
         difference * volume_w * r_iw.dot(gradient) / (r_iw.norm_squared() + self.softening)
     }
 
@@ -150,7 +177,7 @@ mod tests {
     fn a_lithostatic_field_does_not_diffuse_even_at_a_free_surface() {
         let (rho, g, k0) = (2000.0, 9.81, 0.5);
         let gravity = Vector::<2>::new(0.0, -g);
-        let diffusion = MeanStressDiffusion::<2>::new(0.1, 1.3, 10.0, 1e6, gravity, rho, k0);
+        let diffusion = MeanStressDiffusion::<2>::new(0.1, 1.3, 10.0, 1e6, gravity, rho, k0, true);
         // σ_v = −ρ g (H − y), σ_h = K₀ σ_v with H = 0: p = −ρ g y (1 + 2K₀)/3.
         let lithostatic = |x: &Vector<2>| -rho * g * x[1] * (1.0 + 2.0 * k0) / 3.0;
         let full = rate_at_origin(&diffusion, lithostatic, false);
@@ -158,14 +185,67 @@ mod tests {
         assert!(full.abs() < 1e-9 * rho * g, "{full}");
         assert!(surface.abs() < 1e-9 * rho * g, "{surface}");
         // Without the lithostatic part the surface particle would change (the check can fail).
-        let plain = MeanStressDiffusion::<2>::new(0.1, 1.3, 10.0, 1e6, Vector::zeros(), rho, k0);
+        let plain =
+            MeanStressDiffusion::<2>::new(0.1, 1.3, 10.0, 1e6, Vector::zeros(), rho, k0, true);
         assert!(rate_at_origin(&plain, lithostatic, true).abs() > 1e-3 * rho * g);
+    }
+
+    /// Next to a floor of dummy particles whose stress is the extrapolated kernel average of the
+    /// soil around them (`WallStress::Extrapolated`), a lithostatic field does not diffuse.
+    #[test]
+    fn a_lithostatic_field_does_not_diffuse_next_to_a_wall() {
+        use crate::invariants::mean_pressure;
+        use crate::sph::walls::gravity_extrapolation;
+        use geosph_core::Tensor3;
+        let (rho, g, k0) = (2000.0, 9.81, 0.5);
+        let gravity = Vector::<2>::new(0.0, -g);
+        let diffusion = MeanStressDiffusion::<2>::new(0.1, 1.3, 10.0, 1e6, gravity, rho, k0, true);
+        let kernel = WendlandC2::<2>::new(1.3);
+        let radius = kernel.support_radius();
+        let lithostatic = |x: &Vector<2>| {
+            let v = rho * g * x[1];
+            Tensor3::from_diagonal(&Vector::<3>::new(k0 * v, v, k0 * v))
+        };
+        // Soil on rows y ≥ −1 (the particle at the origin is the second layer), walls below.
+        let soil: Vec<Vector<2>> = (-6_i32..=6)
+            .flat_map(|a| (-1_i32..=4).map(move |b| Vector::<2>::new(a as Real, b as Real)))
+            .collect();
+        let walls: Vec<Vector<2>> = (-6_i32..=6)
+            .flat_map(|a| (-4_i32..=-2).map(move |b| Vector::<2>::new(a as Real, b as Real)))
+            .collect();
+        let origin = Vector::<2>::zeros();
+        let p_i = mean_pressure(&lithostatic(&origin));
+        let mut sum = 0.0;
+        for x_j in soil.iter().filter(|x| x.norm() > 0.0 && x.norm() < radius) {
+            let r_ij = origin - x_j;
+            let p_j = mean_pressure(&lithostatic(x_j));
+            sum += diffusion.pair(p_i, p_j, &r_ij, &kernel.gradient(&r_ij), 1.0);
+        }
+        for x_w in walls.iter().filter(|x| x.norm() < radius) {
+            let (mut stress, mut level, mut weight) = (Tensor3::zeros(), 0.0, 0.0);
+            for x_k in soil.iter().filter(|x| (*x - x_w).norm() < radius) {
+                let w = kernel.value((x_k - x_w).norm());
+                stress +=
+                    (lithostatic(x_k) + gravity_extrapolation(rho, &gravity, &(x_k - x_w))) * w;
+                level += diffusion.level(x_k) * w;
+                weight += w;
+            }
+            let p_w = mean_pressure(&(stress / weight));
+            let r_iw = origin - x_w;
+            let offset = diffusion.level(&origin) - level / weight;
+            sum += diffusion.wall_pair(p_i, p_w, &r_iw, offset, &kernel.gradient(&r_iw), 1.0);
+        }
+        assert!(
+            diffusion.rate(sum).abs() < 1e-9 * rho * g,
+            "{}",
+            diffusion.rate(sum)
+        );
     }
 
     #[test]
     fn a_checkerboard_decays_and_the_density_follows() {
         let diffusion =
-            MeanStressDiffusion::<2>::new(0.1, 1.3, 10.0, 1e6, Vector::zeros(), 1.0, 0.5);
+            MeanStressDiffusion::<2>::new(0.1, 1.3, 10.0, 1e6, Vector::zeros(), 1.0, 0.5, true);
         let amplitude = 100.0;
         let checkerboard = |x: &Vector<2>| {
             if (x[0].round() + x[1].round()) as i64 % 2 == 0 {

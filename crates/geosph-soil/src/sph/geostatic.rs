@@ -141,8 +141,9 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     if config.free_slip_walls {
         solver.system.wall_config.slip = WallSlip::FreeSlip;
     }
-    // The stage seeks a static state, which the mean-stress diffusion would only slow (its
-    // lithostatic ratio K₀ is Jaky's, not the material's oedometric one): it acts in the run.
+    // The stage seeks a static state without a checkerboard (η ≤ 0.014, docs/soil.md), and the
+    // diffusion's lithostatic K₀ need not be the state's (Jaky's 1 − sin φ against the
+    // oedometric ratio on the cone): the diffusion acts in the run only.
     let diffusion = solver.system.mean_stress_diffusion();
     solver.system.set_mean_stress_diffusion(None);
     let relaxation = relax(

@@ -129,7 +129,23 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
     /// Runs the geostatic stage (which the solver must have) and then the strength-reduction
     /// search `config` on `soil`, calling `on_trial` after each trial (for progress); on
     /// return `soil` holds the state of the smallest failing trial factor.
+    ///
+    /// The trials run without the mean-stress diffusion (`stress_diffusion`), as the search
+    /// was validated; the solver gets it back on return.
     pub fn factor_of_safety(
+        &mut self,
+        soil: &mut Particles<D>,
+        config: &StrengthReductionConfig,
+        on_trial: &mut dyn FnMut(&Trial),
+    ) -> Result<FactorOfSafety, SoilError> {
+        let diffusion = self.system.mean_stress_diffusion();
+        self.system.set_mean_stress_diffusion(None);
+        let result = self.search(soil, config, on_trial);
+        self.system.set_mean_stress_diffusion(diffusion);
+        result
+    }
+
+    fn search(
         &mut self,
         soil: &mut Particles<D>,
         config: &StrengthReductionConfig,

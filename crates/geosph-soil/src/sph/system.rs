@@ -58,7 +58,8 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>> {
     pub model: SoilModel,
     /// Gravity g.
     pub gravity: Vector<D>,
-    /// Dummy wall particles (their `pressure` holds p = −tr σ_w/3 for output).
+    /// Dummy wall particles (their `pressure` holds p = −tr σ_w/3, for output and the
+    /// mean-stress diffusion).
     pub walls: WallParticles<D>,
     /// Wall condition.
     pub wall_config: SoilWallConfig,
@@ -83,6 +84,9 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>> {
     diffusion: Option<MeanStressDiffusion<D>>,
     /// (dp_i/dt)_diff of the mean-stress diffusion.
     pressure_diffusion: Vec<Real>,
+    /// g·x̄_w, x̄_w the kernel-weighted centre of the soil around each wall particle (with the
+    /// mean-stress diffusion only).
+    wall_centre: Vec<Real>,
     wall_stress: Vec<Tensor3>,
     wall_term: Vec<Matrix<D>>,
     velocity_gradient: Vec<Matrix<D>>,
@@ -140,6 +144,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             correct_velocity_gradient: false,
             diffusion: None,
             pressure_diffusion: Vec::new(),
+            wall_centre: Vec::new(),
             wall_stress: Vec::new(),
             wall_term: Vec::new(),
             velocity_gradient: Vec::new(),
@@ -265,6 +270,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         self.tensile_term.resize(n, Matrix::zeros());
         self.acceleration.resize(n, Vector::zeros());
         self.wall_stress.resize(self.walls.len(), Tensor3::zeros());
+        self.wall_centre.resize(self.walls.len(), 0.0);
         self.wall_term.resize(self.walls.len(), Matrix::zeros());
         Ok(())
     }
@@ -325,6 +331,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             rest_density,
             diffusion,
             pressure_diffusion,
+            wall_centre,
             ..
         } = self;
         let diffusion = *diffusion;
@@ -354,10 +361,11 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 let mut l = Matrix::<D>::zeros();
                 let mut moment = Matrix::<D>::zeros();
                 let mut drho = 0.0;
-                let p_i = if DIFFUSE {
-                    mean_pressure(&stress[i])
-                } else {
-                    0.0
+                let (p_i, level_i) = match &diffusion {
+                    Some(diffusion) if DIFFUSE => {
+                        (mean_pressure(&stress[i]), diffusion.level(&x_i))
+                    }
+                    _ => (0.0, 0.0),
                 };
                 let mut diffusion_sum = 0.0;
                 lists.for_each_neighbour(&kernel, position, i, |pair| {
@@ -393,8 +401,14 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                         moment -= (grad * volume) * pair.r_ij.transpose();
                     }
                     if DIFFUSE && let Some(diffusion) = &diffusion {
-                        let p_w = walls.pressure[w];
-                        diffusion_sum += diffusion.wall_pair(p_i, p_w, &pair.r_ij, &grad, volume);
+                        diffusion_sum += diffusion.wall_pair(
+                            p_i,
+                            walls.pressure[w],
+                            &pair.r_ij,
+                            level_i - wall_centre[w],
+                            &grad,
+                            volume,
+                        );
                     }
                     drho -= rest_density * volume * dv.dot(&grad);
                 });

@@ -24,19 +24,22 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         let rho_w = self.rest_density;
         let correction = self.gradient_correction;
         let mirror = self.wall_config.slip.slips();
+        let diffusion = self.diffusion;
         let walls = &mut self.walls;
         let (wall_position, wall_normal) = (&walls.position, &walls.normal);
         (
             self.wall_stress.par_iter_mut(),
             self.wall_term.par_iter_mut(),
             walls.pressure.par_iter_mut(),
+            self.wall_centre.par_iter_mut(),
         )
             .into_par_iter()
             .enumerate()
             .with_min_len(MIN_CHUNK)
-            .for_each(|(w, (stress, term, pressure))| {
+            .for_each(|(w, (stress, term, pressure, centre))| {
                 let mut sum = Tensor3::zeros();
                 let mut weight = 0.0;
+                let mut level = 0.0;
                 lists.for_each_particle_near_wall(
                     &kernel,
                     &soil.position,
@@ -54,6 +57,9 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                         }
                         sum += sigma * kernel_value;
                         weight += kernel_value;
+                        if let Some(diffusion) = &diffusion {
+                            level += diffusion.level(&soil.position[pair.index]) * kernel_value;
+                        }
                     },
                 );
                 *stress = if weight > 0.0 {
@@ -61,6 +67,9 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 } else {
                     Tensor3::zeros()
                 };
+                if weight > 0.0 {
+                    *centre = level / weight;
+                }
                 if mirror {
                     *stress = mirror_shear(stress, &wall_normal[w]);
                 }
