@@ -129,12 +129,7 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
         "{report}"
     );
     assert!(report.last.front > column.length + 5.0 * dx, "{report}");
-    let settled = report
-        .samples
-        .iter()
-        .find(|s| s.time >= 0.7)
-        .expect("samples after t = 0.7 s");
-    let creep = (report.last.front - settled.front).abs();
+    let creep = creep_after(&report, 0.7);
     against_the_experiment(&report);
     assert!(
         creep < 0.01 * dx,
@@ -186,6 +181,16 @@ fn against_the_experiment(report: &Report) {
     );
 }
 
+/// How far the front moved from the first sample at or after `time` to the end of the run.
+fn creep_after(report: &Report, time: Real) -> Real {
+    let settled = report
+        .samples
+        .iter()
+        .find(|s| s.time >= time)
+        .expect("samples after the given time");
+    (report.last.front - settled.front).abs()
+}
+
 /// The mean of the stress noise η over the flow, 0.05 s ≤ t ≤ 0.5 s.
 fn flow_noise(report: &Report) -> Real {
     let flow: Vec<Real> = report
@@ -231,12 +236,7 @@ fn mean_stress_diffusion_removes_the_checkerboard() {
         diffused.last.kinetic_energy < 1e-3 * diffused.peak_kinetic_energy,
         "{diffused}"
     );
-    let settled = diffused
-        .samples
-        .iter()
-        .find(|s| s.time >= 0.7)
-        .expect("samples after t = 0.7 s");
-    let creep = (diffused.last.front - settled.front).abs();
+    let creep = creep_after(&diffused, 0.7);
     assert!(
         creep < 0.01 * dx,
         "front moved {creep:.2e} m after t = 0.7 s"

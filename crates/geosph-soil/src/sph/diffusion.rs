@@ -94,7 +94,7 @@ impl<const D: usize> MeanStressDiffusion<D> {
         volume_j: Real,
     ) -> Real {
         let difference = pressure_i - pressure_j - self.soil_lithostatic * self.gravity.dot(r_ij);
-        difference * volume_j * r_ij.dot(gradient) / (r_ij.norm_squared() + self.softening)
+        self.flux(difference, r_ij, gradient, volume_j)
     }
 
     /// g·x, the height coordinate the lithostatic terms use (for x̄_w of [`Self::wall_pair`]).
@@ -118,8 +118,18 @@ impl<const D: usize> MeanStressDiffusion<D> {
     ) -> Real {
         let lithostatic =
             self.wall_vertical * self.gravity.dot(r_iw) + self.wall_centre * centre_offset;
-        let difference = pressure_i - pressure_w - lithostatic;
-        difference * volume_w * r_iw.dot(gradient) / (r_iw.norm_squared() + self.softening)
+        self.flux(
+            pressure_i - pressure_w - lithostatic,
+            r_iw,
+            gradient,
+            volume_w,
+        )
+    }
+
+    /// V_j Δp (r_ij·∇_i W_ij)/(r² + 0.01 h²), the Brookshaw (1985) form both pair terms share.
+    #[inline(always)]
+    fn flux(&self, difference: Real, r_ij: &Vector<D>, gradient: &Vector<D>, volume: Real) -> Real {
+        difference * volume * r_ij.dot(gradient) / (r_ij.norm_squared() + self.softening)
     }
 
     /// (dp_i/dt)_diff from the sum of the pair terms.

@@ -16,6 +16,7 @@
 //! - [`stress_check`]: the geostatic state against the 1D state and Janssen's arching.
 //! - [`mod@stress_noise`]: [`stress_noise()`], the checkerboard noise of a stress field.
 //! - [`solver`]: [`SoilSolver`], the time step and the per-step bookkeeping.
+//! - [`search_config`]: [`StrengthReductionConfig`], the settings of that search.
 //! - [`strength_reduction`]: the factor of safety by strength reduction
 //!   ([`SoilSolver::factor_of_safety`]).
 
@@ -25,6 +26,7 @@ pub mod diffusion;
 pub mod geostatic;
 pub mod regularise;
 pub(crate) mod relaxation;
+pub mod search_config;
 pub mod solver;
 pub mod strength_reduction;
 pub mod stress_check;
