@@ -29,8 +29,14 @@ pub struct RunOptions {
 }
 
 impl RunOptions {
-    /// Runs `work` on a pool of `threads` workers, or on rayon's global pool without a
-    /// thread count.
+    /// Runs `work` on a worker of a pool of `threads` workers, or of rayon's global pool
+    /// without a thread count.
+    ///
+    /// On a worker, so that the step's parallel loops are shared out by that worker and its
+    /// siblings: run from a thread outside the pool, every loop was handed to the pool and
+    /// the calling thread put to sleep and woken again, a third thread on the cores between
+    /// loops (the default collapse, 5 000 particles and five loops per step, ran 10–15 %
+    /// slower that way on two cores).
     pub fn install<T: Send>(
         &self,
         work: impl FnOnce() -> T + Send,
@@ -40,7 +46,34 @@ impl RunOptions {
                 .num_threads(threads)
                 .build()?
                 .install(work)),
-            None => Ok(work()),
+            // Called from outside the pool, `scope` runs its body on a worker of the global
+            // pool.
+            None => Ok(rayon::scope(|_| work())),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn work_runs_on_a_worker_of_the_pool() {
+        let global = RunOptions::default();
+        assert!(
+            global
+                .install(rayon::current_thread_index)
+                .unwrap()
+                .is_some()
+        );
+        let two = RunOptions {
+            threads: Some(2),
+            ..RunOptions::default()
+        };
+        let (index, threads) = two
+            .install(|| (rayon::current_thread_index(), rayon::current_num_threads()))
+            .unwrap();
+        assert!(index.is_some());
+        assert_eq!(threads, 2);
     }
 }
