@@ -173,7 +173,8 @@ pub struct SoilConfig {
     pub damping: Option<Real>,
     /// Stress regularisation (default off).
     pub regularisation: Option<RegularisationConfig>,
-    /// Diffusion of the mean stress (default off).
+    /// Diffusion of the mean stress against the stress checkerboard (default on, δ = 0.1;
+    /// `None` switches it off).
     pub stress_diffusion: Option<StressDiffusionConfig>,
     /// CSPM correction of the velocity gradient, exact for linear velocity fields also at free
     /// surfaces (default off).
@@ -215,7 +216,7 @@ impl Default for SoilConfig {
             artificial_stress: None,
             damping: None,
             regularisation: None,
-            stress_diffusion: None,
+            stress_diffusion: Some(StressDiffusionConfig::default()),
             velocity_gradient_correction: false,
             walls: SoilWallConfig::default(),
             geostatic: None,
