@@ -113,10 +113,12 @@ impl DruckerPragerBui2008 {
     /// Returns (rate, λ̇). Linear in ε̇: pass Δε to get the increment and Δλ.
     pub fn elastoplastic_rate(&self, stress: &Tensor3, strain_rate: &Tensor3) -> (Tensor3, Real) {
         let elastic_rate = self.elastic.stress_increment(strain_rate);
+        // The invariants once for √J₂, the scale and f.
         let s = deviator(stress);
         let sqrt_j2 = (0.5 * s.norm_squared()).sqrt();
-        let scale = self.surface.stress_scale(stress);
-        let f = self.surface.yield_function(stress);
+        let i1 = first_invariant(stress);
+        let scale = self.surface.stress_scale(i1, sqrt_j2);
+        let f = self.surface.yield_function_of(i1, sqrt_j2);
         if f < -YIELD_TOLERANCE * scale || sqrt_j2 <= 1e-14 * scale || sqrt_j2 == 0.0 {
             return (elastic_rate, 0.0);
         }

@@ -276,8 +276,16 @@ impl DruckerPragerConstants {
     /// f(σ) = √J₂ + α_φ I₁ − k_c: negative inside (elastic), zero on the surface.
     #[inline]
     pub fn yield_function(&self, stress: &Tensor3) -> Real {
-        second_deviatoric_invariant(stress).sqrt() + self.alpha_phi * first_invariant(stress)
-            - self.k_c
+        self.yield_function_of(
+            first_invariant(stress),
+            second_deviatoric_invariant(stress).sqrt(),
+        )
+    }
+
+    /// [`DruckerPragerConstants::yield_function`] of a stress with invariants I₁ and √J₂.
+    #[inline]
+    pub fn yield_function_of(&self, first_invariant: Real, sqrt_j2: Real) -> Real {
+        sqrt_j2 + self.alpha_phi * first_invariant - self.k_c
     }
 
     /// I₁ at the apex of the cone, k_c/α_φ; `None` for φ = 0 (a cylinder, no apex).
@@ -285,12 +293,11 @@ impl DruckerPragerConstants {
         (self.alpha_phi > 0.0).then(|| self.k_c / self.alpha_phi)
     }
 
-    /// The stress scale k_c + α_φ|I₁| + √J₂ against which the yield function is compared.
+    /// The stress scale k_c + α_φ|I₁| + √J₂ against which the yield function is compared, of
+    /// a stress with invariants I₁ and √J₂.
     #[inline]
-    pub(crate) fn stress_scale(&self, stress: &Tensor3) -> Real {
-        self.k_c
-            + self.alpha_phi * first_invariant(stress).abs()
-            + second_deviatoric_invariant(stress).sqrt()
+    pub(crate) fn stress_scale(&self, first_invariant: Real, sqrt_j2: Real) -> Real {
+        self.k_c + self.alpha_phi * first_invariant.abs() + sqrt_j2
     }
 }
 
