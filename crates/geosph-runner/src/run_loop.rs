@@ -1,19 +1,16 @@
 //! The run of one scene in D dimensions: [`RunLoop`], from the built solver (or a restart) to
 //! the [`Summary`].
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::{IncompressibleMethod, build_incompressible, build_wcsph};
-use geosph_scene::{Scene, SolverSpec};
-use geosph_sph::{Solver, SphSetup, StepReport};
+use geosph_scene::Scene;
+use geosph_sph::{Solver, StepReport};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::checkpoint::{
-    self, Checkpoint, CheckpointClock, CheckpointError, ParticleState, Progress,
-};
+use crate::checkpoint::{self, Checkpoint, CheckpointClock, ParticleState, Progress};
 use crate::error::RunError;
 use crate::escape::{Escapes, Removal};
 use crate::health::report::{BlowUpFiles, BlowUpReport};
@@ -23,6 +20,9 @@ use crate::options::RunOptions;
 use crate::output::RunOutput;
 use crate::probes::PressureProbes;
 use crate::summary::Summary;
+
+mod start;
+use start::{build_solver, open_output, restore};
 
 /// One run in progress: the particles, the solver, the output and where the time loop stands.
 ///
@@ -437,96 +437,6 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             stage: state.stage.clone(),
         })
     }
-}
-
-/// The solver the scene declares, and nothing it does not.
-fn build_solver<const D: usize>(
-    scene: &Scene,
-    inputs: SphSetup<D>,
-    fluid: &mut Particles<D>,
-) -> Result<Box<dyn Solver<D>>, RunError> {
-    let incompressible = |method, config, inputs, fluid: &mut Particles<D>| {
-        build_incompressible(method, config, inputs, fluid)
-    };
-    let built = match &scene.solver {
-        SolverSpec::Wcsph(config) => build_wcsph(config, inputs, fluid),
-        SolverSpec::Pcisph(config) => {
-            incompressible(IncompressibleMethod::Pcisph, config, inputs, fluid)
-        }
-        SolverSpec::Iisph(config) => {
-            incompressible(IncompressibleMethod::Iisph, config, inputs, fluid)
-        }
-        SolverSpec::Dfsph(config) => {
-            incompressible(IncompressibleMethod::Dfsph, config, inputs, fluid)
-        }
-        SolverSpec::Soil(config) => return Ok(geosph_soil::build_soil(config, inputs, fluid)?),
-    };
-    built.map_err(|source| RunError::Solver {
-        time: 0.0,
-        step: 0,
-        source: source.into(),
-    })
-}
-
-/// Restores the particles, the solver and the observer from the checkpoint at `path`.
-fn restore<const D: usize>(
-    path: &Path,
-    scene: &Scene,
-    fluid: &mut Particles<D>,
-    solver: &mut dyn Solver<D>,
-    observer: &mut dyn Observer<D>,
-) -> Result<Progress, RunError> {
-    let saved = Checkpoint::read::<D>(path, scene)?;
-    *fluid = saved
-        .particles
-        .restore(fluid, saved.progress.escaped)
-        .map_err(|error| restart_mismatch(path, error.0))?;
-    solver
-        .restore_state(saved.solver, fluid)
-        .map_err(|error| restart_mismatch(path, error.to_string()))?;
-    observer
-        .restore_state(&saved.observer)
-        .map_err(|reason| restart_mismatch(path, reason))?;
-    Ok(saved.progress)
-}
-
-/// The run's output folder, created, or resumed after `restart`; `None` without one.
-fn open_output<const D: usize>(
-    scene: &Scene,
-    options: &RunOptions,
-    observer: &dyn Observer<D>,
-    probes: &PressureProbes<D>,
-    restart: Option<&Progress>,
-) -> Result<Option<RunOutput>, RunError> {
-    let Some(dir) = &options.out_dir else {
-        return Ok(None);
-    };
-    let vtk = options.vtk.unwrap_or(scene.output.vtk);
-    let mut columns = observer.columns();
-    columns.extend(probes.columns().iter().map(String::as_str));
-    Ok(Some(match restart {
-        None => RunOutput::create(dir, &scene.name, vtk, &columns)?,
-        Some(progress) => RunOutput::resume(
-            dir,
-            &scene.name,
-            vtk,
-            &columns,
-            (
-                progress.time,
-                progress.frames as usize,
-                progress.rows as usize,
-            ),
-        )
-        .map_err(RunError::Resume)?,
-    }))
-}
-
-/// A restart file that passed its own checks but does not fit the scene's particles or solver.
-fn restart_mismatch(path: &Path, reason: String) -> RunError {
-    RunError::Checkpoint(CheckpointError::Mismatch {
-        path: path.to_path_buf(),
-        reason,
-    })
 }
 
 fn kinetic_energy<const D: usize>(fluid: &Particles<D>) -> Real {
