@@ -160,20 +160,22 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
 /// of `data/validation/bui-2008-final-surface.csv`, compared by
 /// `slope_failure::bui2008::ExperimentComparison`).
 ///
-/// Tolerances from the convergence study of docs/soil.md ("Against the experiment"): at
-/// dx = 1.25 mm the surface error P_d is 6.2 % and the toe 5.2 % beyond the measured one. A
-/// surface drawn by particles is known to ±dx/2 at each of the 27 points, which bounds P_d's
-/// change by (dx/2)√27 / ‖f_exp‖ = 4.7 % at dx = 5 mm: P_d ≤ 6.2 + 4.7 ≈ 11 %. The toe moves
-/// by at most 1.6 % per halving of dx from 5 to 1.25 mm: within 5.2 + 2 × 1.6 ≈ 8.5 % of the
-/// measured toe. The height at the wall is the measured 0.1 m within dx/2.
+/// Tolerances from the convergence study of docs/soil.md ("Stress noise during the collapse",
+/// with the mean-stress diffusion, the default): at dx = 1.25 mm the surface error P_d is
+/// 6.5 % and the toe 6.0 % beyond the measured one. A surface drawn by particles is known to
+/// ±dx/2 at each of the 27 points, which bounds P_d's change by (dx/2)√27 / ‖f_exp‖ = 4.7 % at
+/// dx = 5 mm: P_d ≤ 6.5 + 4.7 ≈ 11.2 %. The toe moves by at most 0.9 % per halving of dx from
+/// 5 to 1.25 mm: within 6.0 + 2 × 0.9 = 7.8 % of the measured toe. (Without the diffusion:
+/// 6.2 % and 5.2 % at 1.25 mm, 1.6 % per halving, so 11 % and 8.5 %.) The height at the wall is
+/// the measured 0.1 m within dx/2.
 fn against_the_experiment(report: &Report) {
     let experiment = report
         .experiment
         .as_ref()
         .expect("the default scene is the experiment's set-up");
     let (toe, measured_toe) = experiment.toe;
-    assert!(experiment.surface_error <= 0.11, "{report}");
-    assert!((toe / measured_toe - 1.0).abs() <= 0.085, "{report}");
+    assert!(experiment.surface_error <= 0.112, "{report}");
+    assert!((toe / measured_toe - 1.0).abs() <= 0.078, "{report}");
     let (height, measured_height) = experiment.height_at_wall;
     assert!(
         (height - measured_height).abs() <= 0.5 * report.column.spacing,

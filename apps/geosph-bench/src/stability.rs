@@ -16,6 +16,7 @@ use std::time::Instant;
 
 use geosph_core::Real;
 use geosph_runner::RunOptions;
+
 use crate::matrix::{FLUID_SOLVERS, KERNELS};
 use crate::{Case, Config};
 

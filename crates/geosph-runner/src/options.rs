@@ -29,14 +29,15 @@ pub struct RunOptions {
 }
 
 impl RunOptions {
-    /// Runs `work` on a worker of a pool of `threads` workers, or of rayon's global pool
-    /// without a thread count.
+    /// Runs `work` on a worker of a pool of `threads` workers, or without a thread count on the
+    /// current pool (rayon's global pool, called from outside any pool).
     ///
     /// On a worker, so that the step's parallel loops are shared out by that worker and its
     /// siblings: run from a thread outside the pool, every loop was handed to the pool and
     /// the calling thread put to sleep and woken again, a third thread on the cores between
-    /// loops (the default collapse, 5 000 particles and five loops per step, ran 10–15 %
-    /// slower that way on two cores).
+    /// loops (the default collapse, 5 000 particles and five loops per step, ran about 9 %
+    /// slower that way on two cores, in the median of interleaved runs; the WCSPH dam break
+    /// 12 %; docs/performance.md).
     pub fn install<T: Send>(
         &self,
         work: impl FnOnce() -> T + Send,
@@ -46,8 +47,8 @@ impl RunOptions {
                 .num_threads(threads)
                 .build()?
                 .install(work)),
-            // Called from outside the pool, `scope` runs its body on a worker of the global
-            // pool.
+            // Called from outside any pool, `scope` runs its body on a worker of the global
+            // pool; called from a worker, in place.
             None => Ok(rayon::scope(|_| work())),
         }
     }
