@@ -260,6 +260,26 @@ pub struct GeostaticConfig {
     /// silo effect of Janssen 1895), so σ_v falls short of ρ g (H − y) next to them. A
     /// cohesionless column between free-slip walls may creep instead of coming to rest.
     pub free_slip_walls: bool,
+    /// The stress the stage starts from (default [`InitialStress::Zero`], gravity switched on
+    /// at once).
+    pub initial_stress: InitialStress,
+}
+
+/// The stress a geostatic stage starts from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum InitialStress {
+    /// No stress: gravity is switched on at once and the soil settles into its state (the
+    /// "gravity loading" of geotechnical finite-element practice).
+    #[default]
+    Zero,
+    /// The 1D state of a level layer, set before the relaxation (the "K₀ procedure" of
+    /// geotechnical finite-element practice, e.g. Potts & Zdravković 1999, §5): σ_v = −ρ₀ g d
+    /// with d the depth below the top of the particle's dx-wide column, and every horizontal
+    /// normal stress K σ_v with K the material's own oedometric ratio at that σ_v
+    /// (`stress_check::OedometricRatio`). The relaxation then only settles what that state
+    /// does not balance: rough walls, an inclined surface. A layer is no longer loaded all at
+    /// once between walls that hold its sides, as a column filled layer by layer is not.
+    Oedometric,
 }
 
 impl Default for GeostaticConfig {
@@ -270,6 +290,7 @@ impl Default for GeostaticConfig {
             max_time: 1.0,
             release: Vec::new(),
             free_slip_walls: false,
+            initial_stress: InitialStress::Zero,
         }
     }
 }

@@ -6,10 +6,12 @@ use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::StageReport;
 
-use crate::sph::config::{ConfigError, GeostaticConfig, SoilError, WallSlip};
+use crate::sph::config::{ConfigError, GeostaticConfig, InitialStress, SoilError, WallSlip};
 use crate::sph::relaxation::{Relaxation, RelaxationScale, relax};
 use crate::sph::solver::SoilSolver;
-use crate::sph::stress_check::{CheckSetup, StressCheck, ZoneCheck, check_stress};
+use crate::sph::stress_check::{
+    CheckSetup, Columns, OedometricRatio, StressCheck, ZoneCheck, check_stress,
+};
 use crate::sph::system::SoilSystem;
 
 /// What the geostatic stage reached.
@@ -144,6 +146,9 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     // The stage seeks a static state without a checkerboard (η ≤ 0.014, docs/soil.md), and the
     // diffusion's lithostatic K₀ need not be the state's (Jaky's 1 − sin φ against the
     // oedometric ratio on the cone): the diffusion acts in the run only.
+    if config.initial_stress == InitialStress::Oedometric {
+        set_oedometric_stress(solver, soil, scale.height);
+    }
     let diffusion = solver.system.mean_stress_diffusion();
     solver.system.set_mean_stress_diffusion(None);
     let relaxation = relax(
@@ -223,6 +228,34 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     Ok(report)
 }
 
+/// Sets the stress of every soil particle to the 1D state of a level layer
+/// ([`InitialStress::Oedometric`]): σ = σ_v n ⊗ n + K(σ_v) σ_v (I − n ⊗ n), n along gravity,
+/// σ_v = −ρ₀ g d with d the depth below the top of the particle's column, K the oedometric
+/// ratio of the scene's model; `height` bounds the stress of the ratio's path.
+fn set_oedometric_stress<const D: usize, K: Kernel<D>>(
+    solver: &SoilSolver<D, K>,
+    soil: &mut Particles<D>,
+    height: Real,
+) {
+    let system = &solver.system;
+    let g = system.gravity.norm();
+    let down = system.gravity / g;
+    let unit_weight = system.rest_density * g;
+    let ratio = OedometricRatio::new(&system.model, 1.5 * unit_weight * height);
+    let columns = Columns::of(&soil.position, down, system.spacing);
+    let n = nalgebra::Vector3::from_fn(|k, _| if k < D { down[k] } else { 0.0 });
+    let vertical = n * n.transpose();
+    let horizontal = geosph_core::Tensor3::identity() - vertical;
+    let fields = soil
+        .soil
+        .as_mut()
+        .expect("soil particles carry soil fields");
+    for (x, stress) in soil.position.iter().zip(&mut fields.stress) {
+        let sigma_v = -unit_weight * columns.depth(x);
+        *stress = vertical * sigma_v + horizontal * (ratio.at(-sigma_v) * sigma_v);
+    }
+}
+
 impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
     /// Removes the wall particles inside the stage's `release` boxes (the release at the end
     /// of the geostatic stage, applied again on a restart, whose solver is built with the walls
@@ -262,6 +295,14 @@ impl GeostaticReport {
             (
                 "wall_zone_stress_ratio_mean",
                 wall.vertical_stress_ratio_mean,
+            ),
+            (
+                "wall_zone_vertical_stress_error_max",
+                wall.vertical_stress_error_max,
+            ),
+            (
+                "wall_zone_lateral_ratio_error_max",
+                wall.lateral_ratio_error_max,
             ),
             ("janssen_layers", janssen.map_or(0.0, |j| j.layers as Real)),
             (

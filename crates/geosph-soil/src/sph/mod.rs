@@ -37,7 +37,7 @@ pub mod walls;
 
 pub use build::{build_soil, factor_of_safety};
 pub use config::{
-    ArtificialStressConfig, ArtificialViscosityConfig, ConfigError, GeostaticConfig,
+    ArtificialStressConfig, ArtificialViscosityConfig, ConfigError, GeostaticConfig, InitialStress,
     RegularisationConfig, ReleaseBox, SoilConfig, SoilError, SoilWallConfig,
     StrengthReductionConfig, StressDiffusionConfig, WallSlip, WallStress,
 };

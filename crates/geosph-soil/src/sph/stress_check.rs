@@ -115,6 +115,58 @@ impl OedometricRatio {
     }
 }
 
+/// The particles binned into columns of width dx across gravity, with the height of each
+/// column's top particle: the depth of a particle below the top of its column.
+pub(crate) struct Columns<const D: usize> {
+    down: Vector<D>,
+    spacing: Real,
+    /// The least coordinate of the particles across gravity: the bins are centred on the
+    /// lattice of the particles, so that none sits on a bin's edge.
+    origin: Vector<D>,
+    /// Height (against gravity) of the highest particle of each column.
+    top: HashMap<[i64; D], Real>,
+}
+
+impl<const D: usize> Columns<D> {
+    /// The columns of the particles at `position`, `down` the unit vector along gravity.
+    pub(crate) fn of(position: &[Vector<D>], down: Vector<D>, spacing: Real) -> Self {
+        let origin = position
+            .iter()
+            .fold(Vector::<D>::repeat(Real::INFINITY), |low, x| {
+                low.inf(&(x - down * x.dot(&down)))
+            });
+        let mut columns = Self {
+            down,
+            spacing,
+            origin,
+            top: HashMap::new(),
+        };
+        for x in position {
+            let (column, height) = (columns.column(x), columns.height_of(x));
+            let entry = columns.top.entry(column).or_insert(Real::NEG_INFINITY);
+            *entry = entry.max(height);
+        }
+        columns
+    }
+
+    /// Height of `x` against gravity.
+    pub(crate) fn height_of(&self, x: &Vector<D>) -> Real {
+        -x.dot(&self.down)
+    }
+
+    /// The column (bin across gravity) of `x`.
+    pub(crate) fn column(&self, x: &Vector<D>) -> [i64; D] {
+        let across = x - self.down * x.dot(&self.down) - self.origin;
+        std::array::from_fn(|k| (across[k] / self.spacing).round() as i64)
+    }
+
+    /// Depth of a particle at `x` of the binned set below the top of its column, the top
+    /// particle's own half layer included (dx/2 for the top particle).
+    pub(crate) fn depth(&self, x: &Vector<D>) -> Real {
+        self.top[&self.column(x)] + 0.5 * self.spacing - self.height_of(x)
+    }
+}
+
 /// Where the check is made: gravity, density and lattice spacing, and the side walls.
 pub struct CheckSetup<'a, const D: usize> {
     /// Unit vector along gravity.
@@ -154,16 +206,7 @@ pub fn check_stress<const D: usize>(
         .as_ref()
         .expect("soil particles carry soil fields");
     let (down, dx) = (setup.down, setup.spacing);
-    let height_of = |x: &Vector<D>| -x.dot(&down);
-    let column = |x: &Vector<D>| -> [i64; D] {
-        let across = x - down * x.dot(&down);
-        std::array::from_fn(|k| (across[k] / dx).round() as i64)
-    };
-    let mut top: HashMap<[i64; D], Real> = HashMap::new();
-    for x in &soil.position {
-        let entry = top.entry(column(x)).or_insert(Real::NEG_INFINITY);
-        *entry = entry.max(height_of(x));
-    }
+    let columns = Columns::of(&soil.position, down, dx);
     // A particle is in the free field if no rough wall particle at or above its level lies
     // within H across gravity (side walls; the floor below does not hold the soil up by
     // shear). Per column (the bins above): the highest rough wall particle of each wall
@@ -171,11 +214,14 @@ pub fn check_stress<const D: usize>(
     // soil columns × wall columns, not particles × wall particles.
     let mut wall_top: HashMap<[i64; D], Real> = HashMap::new();
     for w in setup.rough_walls {
-        let entry = wall_top.entry(column(w)).or_insert(Real::NEG_INFINITY);
-        *entry = entry.max(height_of(w));
+        let entry = wall_top
+            .entry(columns.column(w))
+            .or_insert(Real::NEG_INFINITY);
+        *entry = entry.max(columns.height_of(w));
     }
     let reach = setup.height / dx;
-    let shear_top: HashMap<&[i64; D], Real> = top
+    let shear_top: HashMap<&[i64; D], Real> = columns
+        .top
         .keys()
         .map(|soil_column| {
             let highest = wall_top
@@ -196,7 +242,7 @@ pub fn check_stress<const D: usize>(
         .iter()
         .zip(&fields.stress)
         .filter_map(|(x, sigma)| {
-            let depth = top[&column(x)] + 0.5 * dx - height_of(x);
+            let depth = columns.depth(x);
             if depth <= 3.0 * dx {
                 return None;
             }
@@ -211,11 +257,11 @@ pub fn check_stress<const D: usize>(
             let sigma_h = (trace - sigma_v) / (D - 1) as Real;
             Some(Sample {
                 depth,
-                height: height_of(x),
+                height: columns.height_of(x),
                 across: (x - down * x.dot(&down))[0],
                 sigma_v,
                 lateral_ratio: sigma_h / sigma_v,
-                free: height_of(x) - 0.5 * dx > shear_top[&column(x)],
+                free: columns.height_of(x) - 0.5 * dx > shear_top[&columns.column(x)],
             })
         })
         .collect();
