@@ -149,17 +149,16 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     if config.initial_stress == InitialStress::Oedometric {
         set_oedometric_stress(solver, soil, scale.height);
     }
-    let diffusion = solver.system.mean_stress_diffusion();
-    solver.system.set_mean_stress_diffusion(None);
-    let relaxation = relax(
-        solver,
-        soil,
-        &scale,
-        config.max_time,
-        config.kinetic_energy_tolerance,
-        |_| false,
-    );
-    solver.system.set_mean_stress_diffusion(diffusion);
+    let relaxation = solver.without_mean_stress_diffusion(|solver| {
+        relax(
+            solver,
+            soil,
+            &scale,
+            config.max_time,
+            config.kinetic_energy_tolerance,
+            |_| false,
+        )
+    });
     let Relaxation {
         steps,
         time,

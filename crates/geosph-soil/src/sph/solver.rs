@@ -78,6 +78,17 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
         self.steps = 0;
         self.system.forget_last_step();
     }
+
+    /// Runs `work` with the mean-stress diffusion off and switches it back as it was: the
+    /// geostatic stage and the strength-reduction trials seek static states, validated without
+    /// it, and the diffusion's lithostatic K₀ need not be their state's.
+    pub fn without_mean_stress_diffusion<T>(&mut self, work: impl FnOnce(&mut Self) -> T) -> T {
+        let diffusion = self.system.mean_stress_diffusion();
+        self.system.set_mean_stress_diffusion(None);
+        let result = work(self);
+        self.system.set_mean_stress_diffusion(diffusion);
+        result
+    }
 }
 
 /// The stress scale ρ₀ (|g| H + c √(2 |g| H)) of soil in a domain H deep along gravity: the

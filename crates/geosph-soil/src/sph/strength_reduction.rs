@@ -138,11 +138,7 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
         config: &StrengthReductionConfig,
         on_trial: &mut dyn FnMut(&Trial),
     ) -> Result<FactorOfSafety, SoilError> {
-        let diffusion = self.system.mean_stress_diffusion();
-        self.system.set_mean_stress_diffusion(None);
-        let result = self.search(soil, config, on_trial);
-        self.system.set_mean_stress_diffusion(diffusion);
-        result
+        self.without_mean_stress_diffusion(|solver| solver.search(soil, config, on_trial))
     }
 
     fn search(
