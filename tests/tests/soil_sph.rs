@@ -191,21 +191,21 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
 /// `slope_failure::bui2008::ExperimentComparison`).
 ///
 /// Tolerances from the convergence study of docs/soil.md ("Stress noise during the collapse",
-/// with the mean-stress diffusion, the default): at dx = 1.25 mm the surface error P_d is
-/// 6.5 % and the toe 6.0 % beyond the measured one. A surface drawn by particles is known to
-/// ±dx/2 at each of the 27 points, which bounds P_d's change by (dx/2)√27 / ‖f_exp‖ = 4.7 % at
-/// dx = 5 mm: P_d ≤ 6.5 + 4.7 ≈ 11.2 %. The toe moves by at most 0.9 % per halving of dx from
-/// 5 to 1.25 mm: within 6.0 + 2 × 0.9 = 7.8 % of the measured toe. (Without the diffusion:
-/// 6.2 % and 5.2 % at 1.25 mm, 1.6 % per halving, so 11 % and 8.5 %.) The height at the wall is
-/// the measured 0.1 m within dx/2.
+/// the default scene: the mean-stress diffusion and the K₀ start): at dx = 1.25 mm the surface
+/// error P_d is 6.2 % and the toe 6.1 % beyond the measured one. A surface drawn by particles
+/// is known to ±dx/2 at each of the 27 points, which bounds P_d's change by
+/// (dx/2)√27 / ‖f_exp‖ = 4.7 % at dx = 5 mm: P_d ≤ 6.2 + 4.7 ≈ 10.9 %. The toe moves by at
+/// most 0.15 % per halving of dx from 5 to 1.25 mm, and a toe drawn by particles is known to
+/// ±dx/2 (0.7 % of the measured toe at dx = 5 mm): within 6.1 + 0.7 ≈ 6.8 % of the measured
+/// toe. The height at the wall is the measured 0.1 m within dx/2.
 fn against_the_experiment(report: &Report) {
     let experiment = report
         .experiment
         .as_ref()
         .expect("the default scene is the experiment's set-up");
     let (toe, measured_toe) = experiment.toe;
-    assert!(experiment.surface_error <= 0.112, "{report}");
-    assert!((toe / measured_toe - 1.0).abs() <= 0.078, "{report}");
+    assert!(experiment.surface_error <= 0.109, "{report}");
+    assert!((toe / measured_toe - 1.0).abs() <= 0.068, "{report}");
     let (height, measured_height) = experiment.height_at_wall;
     assert!(
         (height - measured_height).abs() <= 0.5 * report.column.spacing,
@@ -361,15 +361,14 @@ fn cspm_velocity_gradient_is_exact_for_a_linear_field_at_free_surfaces() {
 /// dx = 2.5 mm against the laws fitted to the experiments of Nguyen, Bui & Fukagawa (2015):
 /// final height h∞/h₀ = 1/(1.42 a^(2/3)) and run-out d∞/d₀ = 4.30 a^0.72 (the grain toe).
 ///
-/// Tolerances from the convergence study of docs/soil.md ("Other aspect ratios"): at
-/// dx = 1.25 mm h∞ is within 5.4 % of the law (a = 1, 2, 4: −5.4, −2.1, +1.5 %) and moves by
-/// up to 2.8 % from 2.5 to 1.25 mm: |h∞/h∞,law − 1| ≤ 5.4 + 2.8 ≈ 8.2 %. The grain toe is at
-/// most 10.3 % short of the law at 1.25 mm (−10.3, −1.0, −2.4 %) and moves by up to 6.7 % from
-/// 2.5 to 1.25 mm: |d∞/d∞,law − 1| ≤ 10.3 + 6.7 = 17 %. At 5 mm the thin end of the deposit is
-/// not resolved (the grain toe 16–25 % short), so the test runs at 2.5 mm. The law's two
-/// published forms differ by up to 6 %. (That study was run without the mean-stress
-/// diffusion, the default since; with it, at 2.5 mm, h∞ is −5.5, −2.3, +1.3 % and the grain
-/// toe −11.4, −3.2, −6.0 % from the laws; its 1.25 mm runs are still to be made.)
+/// Tolerances from the convergence study of docs/soil.md ("Other aspect ratios", the
+/// defaults: the mean-stress diffusion and the K₀ start): at dx = 1.25 mm h∞ is within 6.7 %
+/// of the law (a = 1, 2, 4: −6.7, −3.1, +0.6 %) and moves by up to 1.6 % from 2.5 to 1.25 mm:
+/// |h∞/h∞,law − 1| ≤ 6.7 + 1.6 ≈ 8.3 %. The grain toe is at most 10.0 % short of the law at
+/// 1.25 mm (−10.0, +0.2, −1.9 %) and moves by up to 5.1 % from 2.5 to 1.25 mm:
+/// |d∞/d∞,law − 1| ≤ 10.0 + 5.1 ≈ 15.1 %. At 5 mm the thin end of the deposit is not
+/// resolved (the grain toe 16–25 % short), so the test runs at 2.5 mm. The law's two
+/// published forms differ by up to 6 %.
 #[test]
 fn aspect_ratios_against_the_experiments() {
     for a in [1.0, 2.0, 4.0] {
@@ -379,10 +378,10 @@ fn aspect_ratios_against_the_experiments() {
         eprintln!("{report}");
         let comparison = report.aspect_ratio.expect("a column of the bars");
         let (height, measured_height) = comparison.final_height;
-        assert!((height / measured_height - 1.0).abs() <= 0.082, "{report}");
+        assert!((height / measured_height - 1.0).abs() <= 0.083, "{report}");
         let (runout, Some(measured_runout), _) = comparison.runout else {
             panic!("a = {a} has a run-out law");
         };
-        assert!((runout / measured_runout - 1.0).abs() <= 0.17, "{report}");
+        assert!((runout / measured_runout - 1.0).abs() <= 0.151, "{report}");
     }
 }
