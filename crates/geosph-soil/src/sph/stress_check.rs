@@ -415,6 +415,35 @@ mod tests {
     use crate::model::ConstitutiveConfig;
     use approx::assert_relative_eq;
 
+    /// Particles on a lattice at (k + ½) dx, jittered by 10⁻⁹ dx (the round-off of a relaxed
+    /// state): every particle lands in its own lattice column and its depth is its distance
+    /// below the column's top plus dx/2, whichever way the jitter goes.
+    #[test]
+    fn columns_follow_the_lattice_whatever_the_round_off() {
+        let dx = 0.0025;
+        let down = Vector::<2>::new(0.0, -1.0);
+        let mut position = Vec::new();
+        for i in 0..8 {
+            for k in 0..5 {
+                let jitter = if (i + k) % 2 == 0 { 1e-9 } else { -1e-9 } * dx;
+                position.push(Vector::<2>::new(
+                    (i as Real + 0.5) * dx + jitter,
+                    (k as Real + 0.5) * dx - jitter,
+                ));
+            }
+        }
+        let columns = Columns::of(&position, down, dx);
+        assert_eq!(columns.top.len(), 8);
+        for x in &position {
+            let layer = (x[1] / dx - 0.5).round();
+            assert_relative_eq!(
+                columns.depth(x),
+                (4.0 - layer + 0.5) * dx,
+                epsilon = 1e-8 * dx
+            );
+        }
+    }
+
     /// Elastic: ν/(1 − ν) at every stress. Cohesionless Drucker–Prager with K₀ below the
     /// cone: the ratio on the cone, the same at every stress (no stress scale without c).
     #[test]
