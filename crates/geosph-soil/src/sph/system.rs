@@ -91,6 +91,10 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>> {
     wall_term: Vec<Matrix<D>>,
     velocity_gradient: Vec<Matrix<D>>,
     density_rate: Vec<Real>,
+    /// V_i = m_i/ρ_i and p_i = −tr σ_i/3 of σ^n, gathered once per step for the kinematics'
+    /// pair sums (p only with the mean-stress diffusion).
+    particle_volume: Vec<Real>,
+    particle_pressure: Vec<Real>,
     stress_term: Vec<Matrix<D>>,
     tensile_term: Vec<Matrix<D>>,
     acceleration: Vec<Vector<D>>,
@@ -149,6 +153,8 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             wall_term: Vec::new(),
             velocity_gradient: Vec::new(),
             density_rate: Vec::new(),
+            particle_volume: Vec::new(),
+            particle_pressure: Vec::new(),
             stress_term: Vec::new(),
             tensile_term: Vec::new(),
             acceleration: Vec::new(),
@@ -265,6 +271,8 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         let n = soil.len();
         self.velocity_gradient.resize(n, Matrix::zeros());
         self.density_rate.resize(n, 0.0);
+        self.particle_volume.resize(n, 0.0);
+        self.particle_pressure.resize(n, 0.0);
         self.pressure_diffusion.resize(n, 0.0);
         self.stress_term.resize(n, Matrix::zeros());
         self.tensile_term.resize(n, Matrix::zeros());
@@ -332,6 +340,8 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             diffusion,
             pressure_diffusion,
             wall_centre,
+            particle_volume,
+            particle_pressure,
             ..
         } = self;
         let diffusion = *diffusion;
@@ -350,6 +360,20 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             .as_ref()
             .expect("soil particles carry soil fields")
             .stress;
+        (
+            particle_volume.par_iter_mut(),
+            particle_pressure.par_iter_mut(),
+        )
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(MIN_CHUNK)
+            .for_each(|(i, (volume, pressure))| {
+                *volume = mass[i] / density[i];
+                if DIFFUSE {
+                    *pressure = mean_pressure(&stress[i]);
+                }
+            });
+        let (volume, pressure) = (&*particle_volume, &*particle_pressure);
         velocity_gradient
             .par_iter_mut()
             .zip(density_rate.par_iter_mut())
@@ -362,23 +386,21 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 let mut moment = Matrix::<D>::zeros();
                 let mut drho = 0.0;
                 let (p_i, level_i) = match &diffusion {
-                    Some(diffusion) if DIFFUSE => {
-                        (mean_pressure(&stress[i]), diffusion.level(&x_i))
-                    }
+                    Some(diffusion) if DIFFUSE => (pressure[i], diffusion.level(&x_i)),
                     _ => (0.0, 0.0),
                 };
                 let mut diffusion_sum = 0.0;
                 lists.for_each_neighbour(&kernel, position, i, |pair| {
                     let (j, grad) = (pair.index, pair.grad);
                     let dv = velocity[j] - v_i;
-                    let volume = mass[j] / density[j];
+                    let volume = volume[j];
                     l += (dv * volume) * grad.transpose();
                     if CORRECT {
                         moment -= (grad * volume) * pair.r_ij.transpose();
                     }
                     if DIFFUSE && let Some(diffusion) = &diffusion {
-                        let p_j = mean_pressure(&stress[j]);
-                        diffusion_sum += diffusion.pair(p_i, p_j, &pair.r_ij, &grad, volume);
+                        diffusion_sum +=
+                            diffusion.pair(p_i, pressure[j], &pair.r_ij, &grad, volume);
                     }
                     drho -= mass[j] * dv.dot(&grad);
                 });
