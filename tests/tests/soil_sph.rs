@@ -108,6 +108,25 @@ fn geostatic_stage_of_the_shipped_scenes() {
     }
 }
 
+/// The K₀ start bins the soil into lattice columns along gravity: with gravity off the axes
+/// the stage refuses it with a message that names the field and the way out.
+#[test]
+fn k0_start_needs_gravity_along_an_axis() {
+    let mut scene = Scene::from_ron(DEFAULT_SCENE).unwrap();
+    scene.dx = 0.01;
+    scene.gravity = Some(vec![-0.5, -9.8]);
+    let SolverSpec::Soil(config) = &scene.solver else {
+        unreachable!("a soil scene")
+    };
+    let (mut soil, inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
+    let mut solver = build_soil(config, inputs, &mut soil).unwrap();
+    let error = solver.initial_stage(&mut soil).unwrap_err().to_string();
+    assert!(
+        error.contains("geostatic.initial_stress") && error.contains("initial_stress: Zero"),
+        "{error}"
+    );
+}
+
 /// Gravity switched on at once (`initial_stress: Zero`) on the default column, 0.2 m × 0.1 m
 /// between friction walls at dx = 2.5 mm: the column settles and the walls carry part of its
 /// weight by friction, every layer between them within Janssen's (1895) bounds (the least
@@ -196,8 +215,8 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
 /// is known to ±dx/2 at each of the 27 points, which bounds P_d's change by
 /// (dx/2)√27 / ‖f_exp‖ = 4.7 % at dx = 5 mm: P_d ≤ 6.2 + 4.7 ≈ 10.9 %. The toe moves by at
 /// most 0.15 % per halving of dx from 5 to 1.25 mm, and a toe drawn by particles is known to
-/// ±dx/2 (0.7 % of the measured toe at dx = 5 mm): within 6.1 + 0.7 ≈ 6.8 % of the measured
-/// toe. The height at the wall is the measured 0.1 m within dx/2.
+/// ±dx/2 (0.7 % of the measured toe at dx = 5 mm): within 6.1 + 2 × 0.15 + 0.7 ≈ 7.1 % of the
+/// measured toe. The height at the wall is the measured 0.1 m within dx/2.
 fn against_the_experiment(report: &Report) {
     let experiment = report
         .experiment
@@ -205,7 +224,7 @@ fn against_the_experiment(report: &Report) {
         .expect("the default scene is the experiment's set-up");
     let (toe, measured_toe) = experiment.toe;
     assert!(experiment.surface_error <= 0.109, "{report}");
-    assert!((toe / measured_toe - 1.0).abs() <= 0.068, "{report}");
+    assert!((toe / measured_toe - 1.0).abs() <= 0.071, "{report}");
     let (height, measured_height) = experiment.height_at_wall;
     assert!(
         (height - measured_height).abs() <= 0.5 * report.column.spacing,

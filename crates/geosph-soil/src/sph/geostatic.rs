@@ -1,5 +1,5 @@
-//! The geostatic stage: gravity loading with damping until the soil is at rest, a check of the
-//! reached stress against the lithostatic σ_v, and the release.
+//! The geostatic stage: a damped relaxation to rest under gravity from σ = 0 or from the K₀
+//! state, a check of the reached stress against the state that applies, and the release.
 
 use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
@@ -143,12 +143,25 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     if config.free_slip_walls {
         solver.system.wall_config.slip = WallSlip::FreeSlip;
     }
+    let unit_weight = solver.system.rest_density * g;
+    let oedometer = OedometricRatio::for_column(&solver.system.model, unit_weight, scale.height);
+    if config.initial_stress == InitialStress::Oedometric {
+        if down.iter().filter(|c| c.abs() == 1.0).count() != 1 {
+            solver.system.wall_config.slip = run_slip;
+            return Err(SoilError::Config(ConfigError {
+                field: "geostatic.initial_stress".into(),
+                message: format!(
+                    "Oedometric needs gravity along a coordinate axis (its columns are the \
+                     lattice's), got the direction {:?}; use `initial_stress: Zero` (gravity loading)",
+                    down.as_slice()
+                ),
+            }));
+        }
+        set_oedometric_stress(soil, down, unit_weight, solver.system.spacing, &oedometer);
+    }
     // The stage seeks a static state without a checkerboard (η ≤ 0.014, docs/soil.md), and the
     // diffusion's lithostatic K₀ need not be the state's (Jaky's 1 − sin φ against the
     // oedometric ratio on the cone): the diffusion acts in the run only.
-    if config.initial_stress == InitialStress::Oedometric {
-        set_oedometric_stress(solver, soil, scale.height);
-    }
     let relaxation = solver.without_mean_stress_diffusion(|solver| {
         relax(
             solver,
@@ -188,7 +201,7 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     let no_shear = system.wall_config.slip == WallSlip::FreeSlip;
     let setup = CheckSetup {
         down,
-        unit_weight: system.rest_density * g,
+        unit_weight,
         spacing: system.spacing,
         height: scale.height,
         rough_walls: if no_shear {
@@ -198,7 +211,7 @@ fn run_stage<const D: usize, K: Kernel<D>>(
         },
         wall_friction: system.wall_config.slip.friction_coefficient(),
     };
-    let stress = check_stress(soil, &system.model, &setup);
+    let stress = check_stress(soil, &oedometer, &setup);
     let fields = soil
         .soil
         .as_ref()
@@ -228,20 +241,18 @@ fn run_stage<const D: usize, K: Kernel<D>>(
 }
 
 /// Sets the stress of every soil particle to the 1D state of a level layer
-/// ([`InitialStress::Oedometric`]): σ = σ_v n ⊗ n + K(σ_v) σ_v (I − n ⊗ n), n along gravity,
-/// σ_v = −ρ₀ g d with d the depth below the top of the particle's column, K the oedometric
-/// ratio of the scene's model; `height` bounds the stress of the ratio's path.
-fn set_oedometric_stress<const D: usize, K: Kernel<D>>(
-    solver: &SoilSolver<D, K>,
+/// ([`InitialStress::Oedometric`]): σ = σ_v n ⊗ n + K(σ_v) σ_v (I − n ⊗ n) with n = `down`,
+/// σ_v = −γ d (γ = `unit_weight`) with d the depth below the top of the particle's column
+/// ([`Columns`], width `spacing`), K the `oedometer` ratio of the scene's model (in plane
+/// strain the out-of-plane σ_zz is K σ_v as well: the oedometer holds both lateral strains).
+fn set_oedometric_stress<const D: usize>(
     soil: &mut Particles<D>,
-    height: Real,
+    down: Vector<D>,
+    unit_weight: Real,
+    spacing: Real,
+    oedometer: &OedometricRatio,
 ) {
-    let system = &solver.system;
-    let g = system.gravity.norm();
-    let down = system.gravity / g;
-    let unit_weight = system.rest_density * g;
-    let ratio = OedometricRatio::new(&system.model, 1.5 * unit_weight * height);
-    let columns = Columns::of(&soil.position, down, system.spacing);
+    let columns = Columns::of(&soil.position, down, spacing);
     let n = nalgebra::Vector3::from_fn(|k, _| if k < D { down[k] } else { 0.0 });
     let vertical = n * n.transpose();
     let horizontal = geosph_core::Tensor3::identity() - vertical;
@@ -251,7 +262,7 @@ fn set_oedometric_stress<const D: usize, K: Kernel<D>>(
         .expect("soil particles carry soil fields");
     for (x, stress) in soil.position.iter().zip(&mut fields.stress) {
         let sigma_v = -unit_weight * columns.depth(x);
-        *stress = vertical * sigma_v + horizontal * (ratio.at(-sigma_v) * sigma_v);
+        *stress = vertical * sigma_v + horizontal * (oedometer.at(-sigma_v) * sigma_v);
     }
 }
 

@@ -82,7 +82,10 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
     /// Runs `work` with the mean-stress diffusion off and switches it back as it was: the
     /// geostatic stage and the strength-reduction trials seek static states, validated without
     /// it, and the diffusion's lithostatic K₀ need not be their state's.
-    pub fn without_mean_stress_diffusion<T>(&mut self, work: impl FnOnce(&mut Self) -> T) -> T {
+    pub(crate) fn without_mean_stress_diffusion<T>(
+        &mut self,
+        work: impl FnOnce(&mut Self) -> T,
+    ) -> T {
         let diffusion = self.system.mean_stress_diffusion();
         self.system.set_mean_stress_diffusion(None);
         let result = work(self);

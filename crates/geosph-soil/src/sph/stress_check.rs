@@ -2,7 +2,8 @@
 //! is.
 //!
 //! - The **free field** (periodic or free-slip sides, or farther than the soil height H from a
-//!   side wall that carries shear): the 1D state σ_v = −ρ₀ g (H − y) and σ_h/σ_v equal to the
+//!   side wall that carries shear): the 1D state σ_v = −ρ₀ g d (d the depth below the top of
+//!   the particle's column, [`Columns`]) and σ_h/σ_v equal to the
 //!   material's own oedometric ratio at that σ_v ([`OedometricRatio`]: ν/(1 − ν) while elastic,
 //!   the ratio on the yield surface once the oedometric path reaches it).
 //! - The **wall zone** (within H of a rough side wall), where the walls carry part of the weight
@@ -27,7 +28,8 @@ use crate::model::SoilModel;
 pub struct ZoneCheck {
     /// Particles checked.
     pub particles: usize,
-    /// Largest |σ_v − σ_v,ref| / |σ_v,ref|, σ_v,ref = −ρ₀ g (H − y) (NaN without particles).
+    /// Largest |σ_v − σ_v,ref| / |σ_v,ref|, σ_v,ref = −ρ₀ g d with d the depth below the top
+    /// of the particle's column (NaN without particles).
     pub vertical_stress_error_max: Real,
     /// Mean of the same error.
     pub vertical_stress_error_mean: Real,
@@ -101,6 +103,12 @@ impl OedometricRatio {
         }
     }
 
+    /// The path of `model` for a column of unit weight γ and height H: up to 1.5 γH, half
+    /// again the deepest 1D σ_v, for stresses the walls or the relaxation raise above it.
+    pub fn for_column(model: &SoilModel, unit_weight: Real, height: Real) -> Self {
+        Self::new(model, 1.5 * unit_weight * height)
+    }
+
     /// K at the compression `stress` (positive, Pa), interpolated along the path.
     pub fn at(&self, stress: Real) -> Real {
         let i = self.path.partition_point(|&(s, _)| s < stress);
@@ -120,8 +128,9 @@ impl OedometricRatio {
 pub(crate) struct Columns<const D: usize> {
     down: Vector<D>,
     spacing: Real,
-    /// The least coordinate of the particles across gravity: the bins are centred on the
-    /// lattice of the particles, so that none sits on a bin's edge.
+    /// The least coordinate of the particles across gravity: with gravity along a coordinate
+    /// axis (every coordinate across it is then a lattice direction) the bins are centred on
+    /// the particles' lattice, so that none sits on a bin's edge.
     origin: Vector<D>,
     /// Height (against gravity) of the highest particle of each column.
     top: HashMap<[i64; D], Real>,
@@ -141,12 +150,19 @@ impl<const D: usize> Columns<D> {
             origin,
             top: HashMap::new(),
         };
-        for x in position {
-            let (column, height) = (columns.column(x), columns.height_of(x));
-            let entry = columns.top.entry(column).or_insert(Real::NEG_INFINITY);
-            *entry = entry.max(height);
-        }
+        columns.top = columns.highest(position);
         columns
+    }
+
+    /// The height of the highest of `points` in each column (binned with these columns'
+    /// origin: wall particles on the soil's lattice, or offset from it by whole spacings).
+    pub(crate) fn highest(&self, points: &[Vector<D>]) -> HashMap<[i64; D], Real> {
+        let mut top = HashMap::new();
+        for x in points {
+            let entry = top.entry(self.column(x)).or_insert(Real::NEG_INFINITY);
+            *entry = Real::max(*entry, self.height_of(x));
+        }
+        top
     }
 
     /// Height of `x` against gravity.
@@ -195,10 +211,11 @@ struct Sample {
     free: bool,
 }
 
-/// Checks the stress of `soil` against the 1D state and Janssen (see the module's doc).
+/// Checks the stress of `soil` against the 1D state and Janssen (see the module's doc), with
+/// `oedometer` the oedometric ratio of the scene's model ([`OedometricRatio::for_column`]).
 pub fn check_stress<const D: usize>(
     soil: &Particles<D>,
-    model: &SoilModel,
+    oedometer: &OedometricRatio,
     setup: &CheckSetup<'_, D>,
 ) -> StressCheck {
     let fields = soil
@@ -212,14 +229,10 @@ pub fn check_stress<const D: usize>(
     // shear). Per column (the bins above): the highest rough wall particle of each wall
     // column, then per soil column the highest of those within H, so the cost is
     // soil columns × wall columns, not particles × wall particles.
-    let mut wall_top: HashMap<[i64; D], Real> = HashMap::new();
-    for w in setup.rough_walls {
-        let entry = wall_top
-            .entry(columns.column(w))
-            .or_insert(Real::NEG_INFINITY);
-        *entry = entry.max(columns.height_of(w));
-    }
-    let reach = setup.height / dx;
+    let wall_top = columns.highest(setup.rough_walls);
+    // A particle exactly H from a wall (the middle of a column 2H long) is within H,
+    // whatever the rounding of H/dx.
+    let reach = setup.height / dx + 1e-9;
     let shear_top: HashMap<&[i64; D], Real> = columns
         .top
         .keys()
@@ -265,10 +278,9 @@ pub fn check_stress<const D: usize>(
             })
         })
         .collect();
+    // Janssen's K: the ratio at the deepest stress of the path.
     let max_stress = setup.unit_weight * setup.height * 1.5;
-    let oedometer = OedometricRatio::new(model, max_stress);
-    let zone =
-        |free: bool| zone_check(samples.iter().filter(|s| s.free == free), setup, &oedometer);
+    let zone = |free: bool| zone_check(samples.iter().filter(|s| s.free == free), setup, oedometer);
     let janssen = match (D, setup.wall_friction) {
         (2, Some(mu)) if !setup.rough_walls.is_empty() => {
             janssen_check(&samples, setup, mu, oedometer.at(max_stress))

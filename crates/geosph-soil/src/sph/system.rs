@@ -91,9 +91,9 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>> {
     wall_term: Vec<Matrix<D>>,
     velocity_gradient: Vec<Matrix<D>>,
     density_rate: Vec<Real>,
-    /// V_i = m_i/ρ_i and p_i = −tr σ_i/3 of σ^n, gathered once per step for the kinematics'
-    /// pair sums (p only with the mean-stress diffusion).
+    /// V_i = m_i/ρ_i, gathered once per step for the kinematics' pair sums.
     particle_volume: Vec<Real>,
+    /// p_i = −tr σ_i/3 of σ^n, gathered likewise (with the mean-stress diffusion only).
     particle_pressure: Vec<Real>,
     stress_term: Vec<Matrix<D>>,
     tensile_term: Vec<Matrix<D>>,
@@ -373,7 +373,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                     *pressure = mean_pressure(&stress[i]);
                 }
             });
-        let (volume, pressure) = (&*particle_volume, &*particle_pressure);
+        let (volumes, pressures) = (&*particle_volume, &*particle_pressure);
         velocity_gradient
             .par_iter_mut()
             .zip(density_rate.par_iter_mut())
@@ -386,21 +386,21 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 let mut moment = Matrix::<D>::zeros();
                 let mut drho = 0.0;
                 let (p_i, level_i) = match &diffusion {
-                    Some(diffusion) if DIFFUSE => (pressure[i], diffusion.level(&x_i)),
+                    Some(diffusion) if DIFFUSE => (pressures[i], diffusion.level(&x_i)),
                     _ => (0.0, 0.0),
                 };
                 let mut diffusion_sum = 0.0;
                 lists.for_each_neighbour(&kernel, position, i, |pair| {
                     let (j, grad) = (pair.index, pair.grad);
                     let dv = velocity[j] - v_i;
-                    let volume = volume[j];
+                    let volume = volumes[j];
                     l += (dv * volume) * grad.transpose();
                     if CORRECT {
                         moment -= (grad * volume) * pair.r_ij.transpose();
                     }
                     if DIFFUSE && let Some(diffusion) = &diffusion {
                         diffusion_sum +=
-                            diffusion.pair(p_i, pressure[j], &pair.r_ij, &grad, volume);
+                            diffusion.pair(p_i, pressures[j], &pair.r_ij, &grad, volume);
                     }
                     drho -= mass[j] * dv.dot(&grad);
                 });
