@@ -3,7 +3,7 @@
 //!
 //! - The **free field** (periodic or free-slip sides, or farther than the soil height H from a
 //!   side wall that carries shear): the 1D state σ_v = −ρ₀ g d (d the depth below the top of
-//!   the particle's column, [`Columns`]) and σ_h/σ_v equal to the
+//!   the particle's column, the bins below) and σ_h/σ_v equal to the
 //!   material's own oedometric ratio at that σ_v ([`OedometricRatio`]: ν/(1 − ν) while elastic,
 //!   the ratio on the yield surface once the oedometric path reaches it).
 //! - The **wall zone** (within H of a rough side wall), where the walls carry part of the weight
