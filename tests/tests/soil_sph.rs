@@ -31,15 +31,19 @@ fn k0_scene() -> Scene {
     .unwrap()
 }
 
-/// The report of `scene`'s geostatic stage (2D soil scenes with a stage).
-fn geostatic_stage(scene: &Scene) -> StageReport {
+/// What `scene`'s initial stage returns (2D soil scenes).
+fn initial_stage(scene: &Scene) -> Result<Option<StageReport>, geosph_sph::SolverError> {
     let SolverSpec::Soil(config) = &scene.solver else {
         unreachable!("a soil scene")
     };
     let (mut soil, inputs) = geosph_scene::build::<2>(scene).unwrap().split();
     let mut solver = build_soil(config, inputs, &mut soil).unwrap();
-    solver
-        .initial_stage(&mut soil)
+    solver.initial_stage(&mut soil)
+}
+
+/// The report of `scene`'s geostatic stage (2D soil scenes with a stage).
+fn geostatic_stage(scene: &Scene) -> StageReport {
+    initial_stage(scene)
         .unwrap()
         .expect("the scene has a geostatic stage")
 }
@@ -115,12 +119,7 @@ fn k0_start_needs_gravity_along_an_axis() {
     let mut scene = Scene::from_ron(DEFAULT_SCENE).unwrap();
     scene.dx = 0.01;
     scene.gravity = Some(vec![-0.5, -9.8]);
-    let SolverSpec::Soil(config) = &scene.solver else {
-        unreachable!("a soil scene")
-    };
-    let (mut soil, inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
-    let mut solver = build_soil(config, inputs, &mut soil).unwrap();
-    let error = solver.initial_stage(&mut soil).unwrap_err().to_string();
+    let error = initial_stage(&scene).unwrap_err().to_string();
     assert!(
         error.contains("geostatic.initial_stress") && error.contains("initial_stress: Zero"),
         "{error}"

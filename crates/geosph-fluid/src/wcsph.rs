@@ -415,12 +415,7 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
                         r2: neighbour.r2,
                         inv_r2_eta2: 1.0 / (neighbour.r2 + eta2),
                         grad,
-                        v_ij: v_i
-                            - if V::PHYSICAL {
-                                walls.viscous_velocity[w]
-                            } else {
-                                walls.velocity[w]
-                            },
+                        v_ij: v_i - V::wall_velocity(walls, w),
                         rho_i,
                         rho_j: rho_w,
                         mass_j: mass_w,

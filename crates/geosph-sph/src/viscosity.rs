@@ -1,5 +1,6 @@
 //! Viscous terms of the momentum equation, as type parameters of the pair loop.
 
+use geosph_boundary::WallParticles;
 use geosph_core::{Real, Vector};
 
 /// The geometry and state of one interacting pair (i, j), as the pair loop has it.
@@ -31,6 +32,16 @@ pub trait Viscosity<const D: usize>: Copy + Send + Sync + 'static {
     /// prescribed wall velocity u_w instead, so they damp motion into the wall but exert no
     /// shear along it.
     const PHYSICAL: bool;
+
+    /// The velocity wall particle `w` shows this term: ũ_w when [`Self::PHYSICAL`], else u_w.
+    #[inline(always)]
+    fn wall_velocity(walls: &WallParticles<D>, w: usize) -> Vector<D> {
+        if Self::PHYSICAL {
+            walls.viscous_velocity[w]
+        } else {
+            walls.velocity[w]
+        }
+    }
 
     /// The contribution of neighbour j to dv_i/dt.
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D>;

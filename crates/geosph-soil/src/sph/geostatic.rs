@@ -138,6 +138,17 @@ fn run_stage<const D: usize, K: Kernel<D>>(
         }));
     }
     let down = gravity / g;
+    let oedometric_start = config.initial_stress == InitialStress::Oedometric;
+    if oedometric_start && down.iter().filter(|c| c.abs() == 1.0).count() != 1 {
+        return Err(SoilError::Config(ConfigError {
+            field: "geostatic.initial_stress".into(),
+            message: format!(
+                "Oedometric needs gravity along a coordinate axis (its columns are the \
+                 lattice's), got the direction {:?}; use `initial_stress: Zero` (gravity loading)",
+                down.as_slice()
+            ),
+        }));
+    }
     let scale = RelaxationScale::of(solver, soil, config.damping_ratio);
     let run_slip = solver.system.wall_config.slip;
     if config.free_slip_walls {
@@ -145,18 +156,7 @@ fn run_stage<const D: usize, K: Kernel<D>>(
     }
     let unit_weight = solver.system.rest_density * g;
     let oedometer = OedometricRatio::for_column(&solver.system.model, unit_weight, scale.height);
-    if config.initial_stress == InitialStress::Oedometric {
-        if down.iter().filter(|c| c.abs() == 1.0).count() != 1 {
-            solver.system.wall_config.slip = run_slip;
-            return Err(SoilError::Config(ConfigError {
-                field: "geostatic.initial_stress".into(),
-                message: format!(
-                    "Oedometric needs gravity along a coordinate axis (its columns are the \
-                     lattice's), got the direction {:?}; use `initial_stress: Zero` (gravity loading)",
-                    down.as_slice()
-                ),
-            }));
-        }
+    if oedometric_start {
         set_oedometric_stress(soil, down, unit_weight, solver.system.spacing, &oedometer);
     }
     // The stage seeks a static state without a checkerboard (η ≤ 0.014, docs/soil.md), and the

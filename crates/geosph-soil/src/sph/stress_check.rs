@@ -79,6 +79,8 @@ pub struct StressCheck {
 pub struct OedometricRatio {
     /// (−σ_v, σ_h/σ_v) along the path, −σ_v increasing.
     path: Vec<(Real, Real)>,
+    /// The compression the path was asked to reach, Pa.
+    max_stress: Real,
 }
 
 impl OedometricRatio {
@@ -97,7 +99,7 @@ impl OedometricRatio {
                 .map(|p| (-p.stress[(1, 1)], p.stress[(0, 0)] / p.stress[(1, 1)]))
                 .collect();
             if path.last().is_some_and(|&(s, _)| s >= max_stress) || axial_strain > 1.0 {
-                return Self { path };
+                return Self { path, max_stress };
             }
             axial_strain *= 4.0;
         }
@@ -107,6 +109,11 @@ impl OedometricRatio {
     /// again the deepest 1D σ_v, for stresses the walls or the relaxation raise above it.
     pub fn for_column(model: &SoilModel, unit_weight: Real, height: Real) -> Self {
         Self::new(model, 1.5 * unit_weight * height)
+    }
+
+    /// The compression the path was asked to reach (positive, Pa).
+    pub fn max_stress(&self) -> Real {
+        self.max_stress
     }
 
     /// K at the compression `stress` (positive, Pa), interpolated along the path.
@@ -279,7 +286,7 @@ pub fn check_stress<const D: usize>(
         })
         .collect();
     // Janssen's K: the ratio at the deepest stress of the path.
-    let max_stress = setup.unit_weight * setup.height * 1.5;
+    let max_stress = oedometer.max_stress();
     let zone = |free: bool| zone_check(samples.iter().filter(|s| s.free == free), setup, oedometer);
     let janssen = match (D, setup.wall_friction) {
         (2, Some(mu)) if !setup.rough_walls.is_empty() => {

@@ -134,12 +134,7 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
                 r2,
                 inv_r2_eta2: 1.0 / (r2 + eta2),
                 grad,
-                v_ij: v_i
-                    - if V::PHYSICAL {
-                        walls.viscous_velocity[b]
-                    } else {
-                        walls.velocity[b]
-                    },
+                v_ij: v_i - V::wall_velocity(walls, b),
                 rho_i,
                 rho_j: rho_i,
                 mass_j: mass_b,
