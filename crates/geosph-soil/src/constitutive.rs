@@ -50,6 +50,7 @@ impl StressUpdate {
 
     /// A step from the rotated stress σ̃_n to `stress` under the strain increment Δε, with
     /// the plastic strain computed as Δε − Cᵉ:(σ_{n+1} − σ̃_n).
+    #[inline]
     pub fn with_plastic_strain(
         elastic: &ElasticConstants,
         rotated_stress: &Tensor3,

@@ -219,6 +219,7 @@ impl Constitutive for DruckerPragerBui2008 {
         "drucker-prager-bui2008"
     }
 
+    #[inline]
     fn update(
         &self,
         stress: &Tensor3,

@@ -47,10 +47,13 @@ pub fn spin<const D: usize>(velocity_gradient: &Matrix<D>) -> Tensor3 {
 /// components are (2σ_xy ω_xy, 2σ_xy ω_yx, σ_xx ω_yx + σ_yy ω_xy) and the zz component is 0,
 /// as in the design note `002` (which has this term right).
 ///
-/// Linear in ω: pass the spin increment Δω = ω Δt to get the stress increment.
+/// Linear in ω: pass the spin increment Δω = ω Δt to get the stress increment. For a
+/// symmetric σ and a skew ω, σ·ω = −(ω·σ)ᵀ, so the term is ω·σ + (ω·σ)ᵀ: one matrix product
+/// (bitwise the same as the two, each entry's products being negated exactly).
 #[inline]
 pub fn jaumann_rate(stress: &Tensor3, spin: &Tensor3) -> Tensor3 {
-    spin * stress - stress * spin
+    let spun = spin * stress;
+    spun + spun.transpose()
 }
 
 /// The rotation tensor R(θ) about e_z (counter-clockwise), used by tests and element paths.

@@ -82,15 +82,11 @@ pub struct SoilSystem<const D: usize, K: Kernel<D>> {
     /// Whether L_i is CSPM-corrected.
     correct_velocity_gradient: bool,
     diffusion: Option<MeanStressDiffusion<D>>,
-    /// (dp_i/dt)_diff of the mean-stress diffusion.
-    pressure_diffusion: Vec<Real>,
     /// g·x̄_w, x̄_w the kernel-weighted centre of the soil around each wall particle (with the
     /// mean-stress diffusion only).
     wall_centre: Vec<Real>,
     wall_stress: Vec<Tensor3>,
     wall_term: Vec<Matrix<D>>,
-    velocity_gradient: Vec<Matrix<D>>,
-    density_rate: Vec<Real>,
     /// V_i = m_i/ρ_i, gathered once per step for the kinematics' pair sums.
     particle_volume: Vec<Real>,
     /// p_i = −tr σ_i/3 of σ^n, gathered likewise (with the mean-stress diffusion only).
@@ -147,12 +143,9 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             damping_rate: 0.0,
             correct_velocity_gradient: false,
             diffusion: None,
-            pressure_diffusion: Vec::new(),
             wall_centre: Vec::new(),
             wall_stress: Vec::new(),
             wall_term: Vec::new(),
-            velocity_gradient: Vec::new(),
-            density_rate: Vec::new(),
             particle_volume: Vec::new(),
             particle_pressure: Vec::new(),
             stress_term: Vec::new(),
@@ -269,11 +262,8 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         self.lists
             .update(&mut soil.position, &self.walls.position)?;
         let n = soil.len();
-        self.velocity_gradient.resize(n, Matrix::zeros());
-        self.density_rate.resize(n, 0.0);
         self.particle_volume.resize(n, 0.0);
         self.particle_pressure.resize(n, 0.0);
-        self.pressure_diffusion.resize(n, 0.0);
         self.stress_term.resize(n, Matrix::zeros());
         self.tensile_term.resize(n, Matrix::zeros());
         self.acceleration.resize(n, Vector::zeros());
@@ -291,12 +281,11 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             self.update_walls(soil);
         }
         match (self.correct_velocity_gradient, self.diffusion.is_some()) {
-            (false, false) => self.kinematics::<false, false>(soil),
-            (true, false) => self.kinematics::<true, false>(soil),
-            (false, true) => self.kinematics::<false, true>(soil),
-            (true, true) => self.kinematics::<true, true>(soil),
+            (false, false) => self.kinematics_and_stress::<false, false>(soil, dt),
+            (true, false) => self.kinematics_and_stress::<true, false>(soil, dt),
+            (false, true) => self.kinematics_and_stress::<false, true>(soil, dt),
+            (true, true) => self.kinematics_and_stress::<true, true>(soil, dt),
         }
-        self.update_stress(soil, dt);
         self.update_walls(soil);
         self.momentum(soil, dt);
         let Particles {
@@ -326,28 +315,42 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         Ok(())
     }
 
-    /// L_i and dρ_i/dt of every soil particle from v^n; with `CORRECT`, L_i is CSPM-corrected;
-    /// with `DIFFUSE`, (dp_i/dt)_diff of the mean-stress diffusion from σ^n.
-    fn kinematics<const CORRECT: bool, const DIFFUSE: bool>(&mut self, soil: &Particles<D>) {
+    /// L_i and dρ_i/dt of every soil particle from v^n (with `CORRECT`, L_i CSPM-corrected;
+    /// with `DIFFUSE`, (dp_i/dt)_diff of the mean-stress diffusion from σ^n), and at once
+    /// ρ^{n+1}, σ^{n+1}, strain, plastic strain, σ/ρ² and the artificial stress of the
+    /// particle ([`advance_stress`]). The pair sums read the neighbours' V_j and p_j gathered
+    /// before the pass, never their ρ_j or σ_j, so a particle's own update cannot be seen by
+    /// another's sums: one pass instead of two, the same numbers.
+    fn kinematics_and_stress<const CORRECT: bool, const DIFFUSE: bool>(
+        &mut self,
+        soil: &mut Particles<D>,
+        dt: Real,
+    ) {
         let Self {
             kernel,
             lists,
             walls,
             wall_config,
-            velocity_gradient,
-            density_rate,
             rest_density,
             diffusion,
-            pressure_diffusion,
             wall_centre,
             particle_volume,
             particle_pressure,
+            stress_term,
+            tensile_term,
             ..
         } = self;
         let diffusion = *diffusion;
         let (kernel, lists, walls, rest_density) = (*kernel, &*lists, &*walls, *rest_density);
         let free_slip = wall_config.slip.slips();
         let beta_max = wall_config.beta_max;
+        let stress_update = StressStep {
+            model: self.model,
+            artificial_stress: self.artificial_stress,
+            diffusion: diffusion.filter(|_| DIFFUSE),
+            correction: self.gradient_correction,
+            dt,
+        };
         let Particles {
             position,
             velocity,
@@ -356,10 +359,8 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             soil: fields,
             ..
         } = soil;
-        let stress = &fields
-            .as_ref()
-            .expect("soil particles carry soil fields")
-            .stress;
+        let (position, velocity, mass) = (&*position, &*velocity, &*mass);
+        let fields = fields.as_mut().expect("soil particles carry soil fields");
         (
             particle_volume.par_iter_mut(),
             particle_pressure.par_iter_mut(),
@@ -370,17 +371,22 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             .for_each(|(i, (volume, pressure))| {
                 *volume = mass[i] / density[i];
                 if DIFFUSE {
-                    *pressure = mean_pressure(&stress[i]);
+                    *pressure = mean_pressure(&fields.stress[i]);
                 }
             });
         let (volumes, pressures) = (&*particle_volume, &*particle_pressure);
-        velocity_gradient
-            .par_iter_mut()
-            .zip(density_rate.par_iter_mut())
-            .zip(pressure_diffusion.par_iter_mut())
+        (
+            density.par_iter_mut(),
+            fields.stress.par_iter_mut(),
+            fields.strain.par_iter_mut(),
+            fields.plastic_strain.par_iter_mut(),
+            stress_term.par_iter_mut(),
+            tensile_term.par_iter_mut(),
+        )
+            .into_par_iter()
             .enumerate()
             .with_min_len(MIN_CHUNK)
-            .for_each(|(i, ((gradient, rate), pressure_rate))| {
+            .for_each(|(i, (rho, sigma, strain, plastic, term, tensile))| {
                 let (x_i, v_i) = (position[i], velocity[i]);
                 let mut l = Matrix::<D>::zeros();
                 let mut moment = Matrix::<D>::zeros();
@@ -440,57 +446,77 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 {
                     l *= correction.transpose();
                 }
-                *gradient = l;
-                *rate = drho;
-                if DIFFUSE && let Some(diffusion) = &diffusion {
-                    *pressure_rate = diffusion.rate(diffusion_sum);
-                }
+                stress_update.advance(
+                    ParticleState {
+                        density: rho,
+                        stress: sigma,
+                        strain,
+                        plastic_strain: plastic,
+                        stress_term: term,
+                        tensile_term: tensile,
+                    },
+                    &l,
+                    drho,
+                    diffusion_sum,
+                );
             });
     }
+}
 
-    /// ρ^{n+1}, σ^{n+1}, strain, plastic strain, σ/ρ² and the artificial stress.
-    fn update_stress(&mut self, soil: &mut Particles<D>, dt: Real) {
-        let Particles {
-            density,
-            soil: fields,
-            ..
-        } = soil;
-        let fields = fields.as_mut().expect("soil particles carry soil fields");
-        let (model, artificial_stress) = (self.model, self.artificial_stress);
-        let diffusion = self.diffusion;
-        let correction = self.gradient_correction;
-        (
-            density.par_iter_mut(),
-            fields.stress.par_iter_mut(),
-            fields.strain.par_iter_mut(),
-            fields.plastic_strain.par_iter_mut(),
-            self.velocity_gradient.par_iter(),
-            self.density_rate.par_iter(),
-            self.pressure_diffusion.par_iter(),
-            self.stress_term.par_iter_mut(),
-            self.tensile_term.par_iter_mut(),
-        )
-            .into_par_iter()
-            .with_min_len(MIN_CHUNK)
-            .for_each(
-                |(rho, sigma, strain, plastic, l, rate, dp, term, tensile)| {
-                    if let Some(diffusion) = &diffusion {
-                        let pressure_change = dp * dt;
-                        *sigma -= Tensor3::identity() * pressure_change;
-                        *rho *= 1.0 + diffusion.volumetric_strain(pressure_change);
-                    }
-                    *rho += rate * dt;
-                    let strain_increment = strain_rate(l) * dt;
-                    let update = model.update(sigma, &strain_increment, &(spin(l) * dt));
-                    *sigma = update.stress;
-                    *strain += strain_increment;
-                    *plastic += update.equivalent_plastic_strain_increment;
-                    let stress_block = block::<D>(sigma);
-                    *term = stress_block * (correction / (*rho * *rho));
-                    if let Some(artificial_stress) = &artificial_stress {
-                        *tensile = artificial_stress.particle_term(sigma, *rho);
-                    }
-                },
-            );
+/// What the stress update of one step needs besides the particle.
+struct StressStep<const D: usize> {
+    model: SoilModel,
+    artificial_stress: Option<ArtificialStressGray2001>,
+    /// The mean-stress diffusion, when the pass computes it.
+    diffusion: Option<MeanStressDiffusion<D>>,
+    correction: Real,
+    dt: Real,
+}
+
+/// The fields of one particle that its stress update writes.
+struct ParticleState<'a, const D: usize> {
+    density: &'a mut Real,
+    stress: &'a mut Tensor3,
+    strain: &'a mut Tensor3,
+    plastic_strain: &'a mut Real,
+    stress_term: &'a mut Matrix<D>,
+    tensile_term: &'a mut Matrix<D>,
+}
+
+impl<const D: usize> StressStep<D> {
+    /// ρ^{n+1}, σ^{n+1}, strain, plastic strain, σ/ρ² and R of one particle from its velocity
+    /// gradient `l`, dρ/dt and the diffusion's pair sum.
+    #[inline(always)]
+    fn advance(
+        &self,
+        particle: ParticleState<'_, D>,
+        l: &Matrix<D>,
+        density_rate: Real,
+        diffusion_sum: Real,
+    ) {
+        let ParticleState {
+            density: rho,
+            stress: sigma,
+            strain,
+            plastic_strain: plastic,
+            stress_term: term,
+            tensile_term: tensile,
+        } = particle;
+        let dt = self.dt;
+        if let Some(diffusion) = &self.diffusion {
+            let pressure_change = diffusion.rate(diffusion_sum) * dt;
+            *sigma -= Tensor3::identity() * pressure_change;
+            *rho *= 1.0 + diffusion.volumetric_strain(pressure_change);
+        }
+        *rho += density_rate * dt;
+        let strain_increment = strain_rate(l) * dt;
+        let update = self.model.update(sigma, &strain_increment, &(spin(l) * dt));
+        *sigma = update.stress;
+        *strain += strain_increment;
+        *plastic += update.equivalent_plastic_strain_increment;
+        *term = block::<D>(sigma) * (self.correction / (*rho * *rho));
+        if let Some(artificial_stress) = &self.artificial_stress {
+            *tensile = artificial_stress.particle_term(sigma, *rho);
+        }
     }
 }
