@@ -213,9 +213,11 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
 /// error P_d is 6.2 % and the toe 6.1 % beyond the measured one. A surface drawn by particles
 /// is known to ±dx/2 at each of the 27 points, which bounds P_d's change by
 /// (dx/2)√27 / ‖f_exp‖ = 4.7 % at dx = 5 mm: P_d ≤ 6.2 + 4.7 ≈ 10.9 %. The toe moves by at
-/// most 0.15 % per halving of dx from 5 to 1.25 mm, and a toe drawn by particles is known to
-/// ±dx/2 (0.7 % of the measured toe at dx = 5 mm): within 6.1 + 2 × 0.15 + 0.7 ≈ 7.1 % of the
-/// measured toe. The height at the wall is the measured 0.1 m within dx/2.
+/// most 0.15 % per halving of dx from 5 to 1.25 mm (as measured before the one-division
+/// viscosity), and a toe drawn by particles is known to ±dx/2 (0.7 % of the measured toe at
+/// dx = 5 mm): within 6.1 + 2 × 0.15 + 0.7 ≈ 7.1 % of the measured toe. Measured now: +3.5 %;
+/// a change of rounding alone moved the 5 mm toe by 2.5 % (docs/soil.md, "Round-off"). The
+/// height at the wall is the measured 0.1 m within dx/2.
 fn against_the_experiment(report: &Report) {
     let experiment = report
         .experiment

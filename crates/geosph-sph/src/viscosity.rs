@@ -88,12 +88,20 @@ pub struct ArtificialMonaghan1992 {
 
 impl ArtificialMonaghan1992 {
     /// Π_ij = (−α c̄ μ_ij + β μ_ij²)/ρ̄_ij of an approaching pair with μ_ij = `mu` and
-    /// ρ̄_ij = `rho_mean`. The soil adds it to the stress term of the pair as −Π_ij 1 (Bui et
-    /// al. 2008, eq. 32); the caller forms μ_ij (and skips receding pairs), so that each
-    /// material keeps the rounding of its μ_ij.
+    /// ρ̄_ij = `rho_mean` (the caller forms μ_ij and skips receding pairs).
     #[inline(always)]
     pub fn pi(&self, mu: Real, rho_mean: Real) -> Real {
         (-self.alpha * self.sound_speed * mu + self.beta * mu * mu) / rho_mean
+    }
+
+    /// The same Π_ij (up to rounding) from a = `h_approach` = h v_ij·x_ij (< 0 for an
+    /// approaching pair) and d = `softened_r2` = |x_ij|² + 0.01 h², with one division instead
+    /// of two: μ_ij = a/d, so Π_ij = a (β a − α c̄ d)/(d² ρ̄_ij). The soil adds it to the stress
+    /// term of the pair as −Π_ij 1 (Bui et al. 2008, eq. 32).
+    #[inline(always)]
+    pub fn pi_of_approach(&self, h_approach: Real, softened_r2: Real, rho_mean: Real) -> Real {
+        h_approach * (self.beta * h_approach - self.alpha * self.sound_speed * softened_r2)
+            / (softened_r2 * softened_r2 * rho_mean)
     }
 }
 
@@ -260,6 +268,14 @@ mod tests {
         // β adds β μ²/ρ̄.
         let quadratic = ArtificialMonaghan1992 { beta: 1.0, ..av };
         assert_relative_eq!(quadratic.pi(-2.0, 2.0), (2.0 + 4.0) / 2.0, epsilon = 1e-12);
+        // One division: the same Π from a = h v·x and d = r² + 0.01 h².
+        for (a, d, rho) in [(-0.3, 1.01, 2.0), (-2.0e-4, 3.1e-6, 2650.0)] {
+            assert_relative_eq!(
+                quadratic.pi_of_approach(a, d, rho),
+                quadratic.pi(a / d, rho),
+                max_relative = 1e-14
+            );
+        }
     }
 
     #[test]

@@ -318,9 +318,10 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
     /// L_i and dρ_i/dt of every soil particle from v^n (with `CORRECT`, L_i CSPM-corrected;
     /// with `DIFFUSE`, (dp_i/dt)_diff of the mean-stress diffusion from σ^n), and at once
     /// ρ^{n+1}, σ^{n+1}, strain, plastic strain, σ/ρ² and the artificial stress of the
-    /// particle ([`advance_stress`]). The pair sums read the neighbours' V_j and p_j gathered
-    /// before the pass, never their ρ_j or σ_j, so a particle's own update cannot be seen by
-    /// another's sums: one pass instead of two, the same numbers.
+    /// particle ([`StressStep::advance`]). The pair sums read the neighbours' V_j and p_j
+    /// gathered before the pass (and the walls' σ_w of σ^n), never their ρ_j or σ_j, so a
+    /// particle's own update cannot be seen by another's sums: one pass instead of two, the
+    /// same numbers.
     fn kinematics_and_stress<const CORRECT: bool, const DIFFUSE: bool>(
         &mut self,
         soil: &mut Particles<D>,
@@ -447,7 +448,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                     l *= correction.transpose();
                 }
                 stress_update.advance(
-                    ParticleState {
+                    StressFields {
                         density: rho,
                         stress: sigma,
                         strain,
@@ -465,16 +466,20 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
 
 /// What the stress update of one step needs besides the particle.
 struct StressStep<const D: usize> {
+    /// The constitutive model.
     model: SoilModel,
+    /// Gray et al.'s (2001) artificial stress, if on.
     artificial_stress: Option<ArtificialStressGray2001>,
     /// The mean-stress diffusion, when the pass computes it.
     diffusion: Option<MeanStressDiffusion<D>>,
+    /// 1/f, the lattice gradient correction of σ/ρ² ([`SoilSystem::gradient_correction`]).
     correction: Real,
+    /// Δt.
     dt: Real,
 }
 
-/// The fields of one particle that its stress update writes.
-struct ParticleState<'a, const D: usize> {
+/// The fields of one soil particle that its stress update writes.
+struct StressFields<'a, const D: usize> {
     density: &'a mut Real,
     stress: &'a mut Tensor3,
     strain: &'a mut Tensor3,
@@ -489,12 +494,12 @@ impl<const D: usize> StressStep<D> {
     #[inline(always)]
     fn advance(
         &self,
-        particle: ParticleState<'_, D>,
+        particle: StressFields<'_, D>,
         l: &Matrix<D>,
         density_rate: Real,
         diffusion_sum: Real,
     ) {
-        let ParticleState {
+        let StressFields {
             density: rho,
             stress: sigma,
             strain,

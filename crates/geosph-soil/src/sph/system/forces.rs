@@ -108,7 +108,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         let wall_viscosity = viscosity.filter(|_| wall_config.viscous);
         let friction = wall_config.slip.friction_coefficient();
         // −Π_ij 1 of an approaching pair with relative velocity v_ij and density ρ̄ (Bui et al.
-        // 2008, eq. 32), μ_ij = h v_ij·r_ij/(r² + 0.01h²).
+        // 2008, eq. 32), μ_ij = h v_ij·r_ij/(r² + 0.01h²), with one division per pair.
         let add_viscosity = |term: &mut Matrix<D>,
                              viscosity: &ArtificialMonaghan1992,
                              v_ij: Vector<D>,
@@ -117,7 +117,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                              rho: Real| {
             let approach = v_ij.dot(pair_r_ij);
             if approach < 0.0 {
-                let pi = viscosity.pi(h * approach / (r2 + eta2), rho);
+                let pi = viscosity.pi_of_approach(h * approach, r2 + eta2, rho);
                 for k in 0..D {
                     term[(k, k)] -= pi;
                 }
