@@ -209,22 +209,24 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
 /// `slope_failure::bui2008::ExperimentComparison`).
 ///
 /// Tolerances from the convergence study of docs/soil.md ("Stress noise during the collapse",
-/// the default scene: the mean-stress diffusion and the K₀ start; "Round-off"): at
-/// dx = 1.25 mm the surface error P_d is 6.5 % and the toe 6.5 % beyond the measured one. A
-/// surface drawn by particles is known to ±dx/2 at each of the 27 points, which bounds P_d's
-/// change by (dx/2)√27 / ‖f_exp‖ = 4.7 % at dx = 5 mm: P_d ≤ 6.5 + 4.7 ≈ 11.2 %. The toe moves
-/// by 0.4 % from 2.5 to 1.25 mm, and a toe drawn by particles is known to ±dx/2 (0.7 % of the
-/// measured toe at dx = 5 mm): within 6.5 + 2 × 0.4 + 0.7 ≈ 8.0 % of the measured toe
-/// (measured: P_d 5.1 %, toe +3.5 %; a change of rounding alone moved the 5 mm toe by 2.5 %).
-/// The height at the wall is the measured 0.1 m within dx/2.
+/// the default scene: the mean-stress diffusion and the K₀ start) as it stood when the test was
+/// written: at dx = 1.25 mm the surface error P_d was 6.2 % and the toe 6.1 % beyond the
+/// measured one. A surface drawn by particles is known to ±dx/2 at each of the 27 points,
+/// which bounds P_d's change by (dx/2)√27 / ‖f_exp‖ = 4.7 % at dx = 5 mm: P_d ≤ 6.2 + 4.7 ≈
+/// 10.9 %. The toe moved by at most 0.15 % per halving of dx from 5 to 1.25 mm, and a toe drawn
+/// by particles is known to ±dx/2 (0.7 % of the measured toe at dx = 5 mm): within
+/// 6.1 + 2 × 0.15 + 0.7 ≈ 7.1 % of the measured toe. The one-division artificial viscosity
+/// (a change of rounding) later gave 6.5 % and +6.5 % at 1.25 mm and moved the 5 mm toe by
+/// 2.5 % (docs/soil.md, "Round-off"); the bounds were not widened for it (measured at 5 mm:
+/// P_d 5.1 %, toe +3.5 %). The height at the wall is the measured 0.1 m within dx/2.
 fn against_the_experiment(report: &Report) {
     let experiment = report
         .experiment
         .as_ref()
         .expect("the default scene is the experiment's set-up");
     let (toe, measured_toe) = experiment.toe;
-    assert!(experiment.surface_error <= 0.112, "{report}");
-    assert!((toe / measured_toe - 1.0).abs() <= 0.080, "{report}");
+    assert!(experiment.surface_error <= 0.109, "{report}");
+    assert!((toe / measured_toe - 1.0).abs() <= 0.071, "{report}");
     let (height, measured_height) = experiment.height_at_wall;
     assert!(
         (height - measured_height).abs() <= 0.5 * report.column.spacing,

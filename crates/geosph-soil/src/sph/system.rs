@@ -387,7 +387,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             .into_par_iter()
             .enumerate()
             .with_min_len(MIN_CHUNK)
-            .for_each(|(i, (rho, sigma, strain, plastic, term, tensile))| {
+            .for_each(|(i, particle)| {
                 let (x_i, v_i) = (position[i], velocity[i]);
                 let mut l = Matrix::<D>::zeros();
                 let mut moment = Matrix::<D>::zeros();
@@ -447,19 +447,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 {
                     l *= correction.transpose();
                 }
-                stress_update.advance(
-                    StressFields {
-                        density: rho,
-                        stress: sigma,
-                        strain,
-                        plastic_strain: plastic,
-                        stress_term: term,
-                        tensile_term: tensile,
-                    },
-                    &l,
-                    drho,
-                    diffusion_sum,
-                );
+                stress_update.advance(particle, &l, drho, diffusion_sum);
             });
     }
 }
@@ -478,15 +466,16 @@ struct StressStep<const D: usize> {
     dt: Real,
 }
 
-/// The fields of one soil particle that its stress update writes.
-struct StressFields<'a, const D: usize> {
-    density: &'a mut Real,
-    stress: &'a mut Tensor3,
-    strain: &'a mut Tensor3,
-    plastic_strain: &'a mut Real,
-    stress_term: &'a mut Matrix<D>,
-    tensile_term: &'a mut Matrix<D>,
-}
+/// The fields of one soil particle that its stress update writes, as the pass zips them: ρ, σ,
+/// strain, equivalent plastic strain, σ/ρ² and the artificial stress R.
+type StressFields<'a, const D: usize> = (
+    &'a mut Real,
+    &'a mut Tensor3,
+    &'a mut Tensor3,
+    &'a mut Real,
+    &'a mut Matrix<D>,
+    &'a mut Matrix<D>,
+);
 
 impl<const D: usize> StressStep<D> {
     /// ρ^{n+1}, σ^{n+1}, strain, plastic strain, σ/ρ² and R of one particle from its velocity
@@ -499,14 +488,7 @@ impl<const D: usize> StressStep<D> {
         density_rate: Real,
         diffusion_sum: Real,
     ) {
-        let StressFields {
-            density: rho,
-            stress: sigma,
-            strain,
-            plastic_strain: plastic,
-            stress_term: term,
-            tensile_term: tensile,
-        } = particle;
+        let (rho, sigma, strain, plastic, term, tensile) = particle;
         let dt = self.dt;
         if let Some(diffusion) = &self.diffusion {
             let pressure_change = diffusion.rate(diffusion_sum) * dt;
