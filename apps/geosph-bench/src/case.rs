@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use geosph_core::{Particles, Real};
 use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
+use geosph_fluid::incompressible::PressureSource;
 use geosph_kernels::KernelKind;
 use geosph_runner::{NoObserver, Observer, RunOptions, Summary};
 use geosph_scene::{Scene, SolverSpec, WallSpec};
@@ -393,17 +394,26 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
                 incompressible.viscosity = laminar;
                 incompressible.negative_pressure = true;
                 incompressible.shifting = Some(ParticleShifting::default());
-                // DFSPH: exact divergences on the disordered particles and a projection of
-                // the velocity divergence alone, tightly: the density solve would chase the
-                // summation density's scatter on those particles, which is not compression
-                // (docs/incompressible.md, "The Taylor–Green vortex"); it only bounds the
-                // compression at 3 %. PCISPH and IISPH have only the density solve, where
-                // renormalising makes more runs blow up.
+                // Exact divergences on the disordered particles and a tight projection of the
+                // velocity divergence alone: a density solve would chase the summation
+                // density's scatter on those particles, which is not compression
+                // (docs/incompressible.md, "The Taylor–Green vortex"). DFSPH keeps its density
+                // solve only as a 3 % bound on the compression; PCISPH and IISPH take the
+                // velocity-divergence source instead of the density (Cornelis et al. 2018).
+                incompressible.renormalise_gradients = true;
+                // A quarter of the default Courant number: at the default the shifting's
+                // per-step bounds (D ≤ h²/2, 0.1 Δx) cut its strength per unit time to a third
+                // or less,
+                // the particles cluster at the stagnation points and PCISPH and IISPH blow up
+                // at 50 × 50 (docs/incompressible.md).
+                incompressible.cfl = 0.1 * config.dt_factor;
                 if config.solver == "dfsph" {
-                    incompressible.renormalise_gradients = true;
                     incompressible.target_density_error = 0.03;
                     incompressible.min_iterations = 0;
                     incompressible.target_divergence_error = 1e-6;
+                } else {
+                    incompressible.source = PressureSource::VelocityDivergence;
+                    incompressible.target_density_error = 1e-6;
                 }
             }
             if channel {

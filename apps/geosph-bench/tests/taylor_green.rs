@@ -47,10 +47,10 @@ fn taylor_green_vortex_converges_to_the_exact_decay() {
     );
 }
 
-/// DFSPH on the vortex with renormalised gradients and a tight divergence-only projection (the
-/// harness's configuration, `docs/incompressible.md`): the fine run's bar of a velocity L2 error
-/// ≤ 2 % already at 25 × 25 (1.24 % measured; 0.89 % and 0.85 % at 50² and 100², whose kinetic
-/// energy, 0.985 and 0.984 of the exact, misses the 1 % bar). Before, 49 %.
+/// DFSPH on the vortex with renormalised gradients and a tight divergence-only projection at a
+/// Courant number of 0.1 (the harness's configuration, `docs/incompressible.md`): the fine
+/// run's bar of a velocity L2 error ≤ 2 % already at 25 × 25 (1.44 % measured; 0.45 % and
+/// 0.53 % at 50² and 100²). Before, 49 %.
 #[test]
 fn dfsph_taylor_green_vortex_within_two_percent() {
     let (error, energy_ratio) = run_with("dfsph", 1.0 / 25.0);
@@ -58,4 +58,22 @@ fn dfsph_taylor_green_vortex_within_two_percent() {
         "DFSPH Taylor–Green, t = 2, 25 × 25: L2 error {error:.4}, kinetic energy / exact {energy_ratio:.4}"
     );
     assert!(error <= 0.02, "L2 error {error} at 25 × 25 exceeds 2 %");
+}
+
+/// IISPH with the velocity-divergence source (Cornelis et al. 2018) and renormalised gradients,
+/// the harness's configuration: at 50 × 50, where it blew up at t = 0.2 s with the Courant
+/// number 0.4, it must meet the fine run's bar, an L2 error ≤ 2 % and a kinetic energy within
+/// 1 % of the exact decay (0.59 % and 0.998 measured; before, with the density source, 46 % at
+/// 25 × 25).
+#[test]
+fn iisph_taylor_green_vortex_meets_the_fine_bar_at_50() {
+    let (error, energy_ratio) = run_with("iisph", 1.0 / 50.0);
+    eprintln!(
+        "IISPH Taylor–Green, t = 2, 50 × 50: L2 error {error:.4}, kinetic energy / exact {energy_ratio:.4}"
+    );
+    assert!(error <= 0.02, "L2 error {error} at 50 × 50 exceeds 2 %");
+    assert!(
+        (energy_ratio - 1.0).abs() <= 0.01,
+        "kinetic energy {energy_ratio} of the exact decay at 50 × 50"
+    );
 }

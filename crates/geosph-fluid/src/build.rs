@@ -185,6 +185,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
             cfl: config.cfl,
             max_time_step: config.max_time_step,
             negative_pressure: config.negative_pressure,
+            source: config.source,
         };
         let mut solver = Incompressible::new(system, method, settings, setup.spacing, self.fluid)?;
         solver.system.lists.reorder_every = config.reorder_every;

@@ -12,7 +12,7 @@ use geosph_time::Scheme;
 use serde::{Deserialize, Serialize};
 
 use crate::diffusion::{DeltaAntuono2010, DeltaFourtakas2019, DeltaMolteni2009, DiffusionTerm};
-use crate::incompressible::{PressureSolveSettings, WallPressure};
+use crate::incompressible::{PressureSolveSettings, PressureSource, WallPressure};
 
 /// The viscous term of a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -302,6 +302,10 @@ pub struct IncompressibleConfig {
     /// ([`PressureSystem::renormalise_gradients`](crate::incompressible::PressureSystem::renormalise_gradients)); only with `negative_pressure`, for flows
     /// without a free surface.
     pub renormalise_gradients: bool,
+    /// PCISPH and IISPH: the source of the pressure equation (default
+    /// `DensityInvariance`; `VelocityDivergence` only with `negative_pressure`, and not for
+    /// DFSPH, whose divergence solve is that source).
+    pub source: PressureSource,
 }
 
 impl Default for IncompressibleConfig {
@@ -326,6 +330,7 @@ impl Default for IncompressibleConfig {
             shifting: None,
             negative_pressure: settings.negative_pressure,
             renormalise_gradients: false,
+            source: settings.source,
         }
     }
 }
@@ -370,10 +375,33 @@ impl IncompressibleConfig {
                     .to_owned(),
             ));
         }
+        if self.source == PressureSource::VelocityDivergence && !self.negative_pressure {
+            return Err(ConfigError::new(
+                "source",
+                "`VelocityDivergence` needs `negative_pressure: true`: it does not correct the \
+                 density, so a free surface would lose volume step by step; it is for flows \
+                 without one, whose volume the domain fixes"
+                    .to_owned(),
+            ));
+        }
         if let Some(shifting) = &self.shifting {
             shifting.validate("shifting")?;
         }
         self.viscosity.validate()
+    }
+
+    /// [`IncompressibleConfig::validate`], and the fields that only some methods take.
+    pub fn validate_for(&self, method: IncompressibleMethod) -> Result<(), ConfigError> {
+        if method == IncompressibleMethod::Dfsph && self.source != PressureSource::default() {
+            return Err(ConfigError::new(
+                "source",
+                "is for PCISPH and IISPH: DFSPH solves for both sources, the velocity \
+                 divergence in its divergence solve (`divergence_solve`) and the density in \
+                 its density solve"
+                    .to_owned(),
+            ));
+        }
+        self.validate()
     }
 
     /// The particles start at ρ₀, or hydrostatic with Tait's inverse (γ = 7) when the scene
@@ -421,5 +449,35 @@ mod tests {
             ..Default::default()
         };
         assert!(confined.validate().is_ok());
+    }
+
+    #[test]
+    fn the_divergence_source_is_for_confined_flows_and_not_for_dfsph() {
+        let free_surface = IncompressibleConfig {
+            source: PressureSource::VelocityDivergence,
+            ..Default::default()
+        };
+        let message = free_surface
+            .validate_for(IncompressibleMethod::Iisph)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("source") && message.contains("negative_pressure"),
+            "{message}"
+        );
+        let confined = IncompressibleConfig {
+            negative_pressure: true,
+            ..free_surface
+        };
+        assert!(confined.validate_for(IncompressibleMethod::Iisph).is_ok());
+        assert!(confined.validate_for(IncompressibleMethod::Pcisph).is_ok());
+        let message = confined
+            .validate_for(IncompressibleMethod::Dfsph)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("source") && message.contains("divergence_solve"),
+            "{message}"
+        );
     }
 }

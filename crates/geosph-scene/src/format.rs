@@ -1,7 +1,7 @@
 //! The scene file format (RON, read with serde).
 
 use geosph_core::Real;
-use geosph_fluid::{IncompressibleConfig, WcsphConfig};
+use geosph_fluid::{IncompressibleConfig, IncompressibleMethod, WcsphConfig};
 use serde::{Deserialize, Serialize};
 
 /// A simulation scene. Coordinates are lists of `dimension` numbers, in metres.
@@ -285,9 +285,9 @@ impl SolverSpec {
         match self {
             SolverSpec::Wcsph(config) => config.validate(),
             SolverSpec::Soil(config) => config.validate(),
-            SolverSpec::Pcisph(config) | SolverSpec::Iisph(config) | SolverSpec::Dfsph(config) => {
-                config.validate()
-            }
+            SolverSpec::Pcisph(config) => config.validate_for(IncompressibleMethod::Pcisph),
+            SolverSpec::Iisph(config) => config.validate_for(IncompressibleMethod::Iisph),
+            SolverSpec::Dfsph(config) => config.validate_for(IncompressibleMethod::Dfsph),
         }
     }
 

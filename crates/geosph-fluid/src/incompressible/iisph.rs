@@ -6,7 +6,9 @@ use geosph_kernels::Kernel;
 use rayon::prelude::*;
 
 use super::system::MIN_LEN;
-use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
+use super::{
+    PressureMethod, PressureSolveSettings, PressureSource, PressureSystem, Scratch, SolveReport,
+};
 
 /// IISPH: the pressure Poisson equation from the continuity equation,
 ///
@@ -130,8 +132,10 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>>(
     } else {
         0.0
     };
-    // The density predicted from v* alone, minus ρ₀: residual_i = ρ*_i − ρ₀; and p/ρ² of the
-    // starting pressure.
+    // The density predicted from v* alone, minus ρ₀: residual_i = ρ*_i − ρ₀ (or, with the
+    // velocity-divergence source, its part Δt Σ_j m_j (v*_i − v*_j)·∇_i W_ij); and p/ρ² of
+    // the starting pressure.
+    let source = settings.source;
     {
         let velocity = &*velocity;
         residual
@@ -141,7 +145,11 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>>(
             .with_min_len(MIN_LEN)
             .for_each(|(i, (r, term))| {
                 let rho_i = density[i];
-                *r = rho_i + dt * system.divergence_at(i, mass, velocity, &walls.velocity) - rho0;
+                let rate = dt * system.divergence_at(i, mass, velocity, &walls.velocity);
+                *r = match source {
+                    PressureSource::DensityInvariance => rho_i + rate - rho0,
+                    PressureSource::VelocityDivergence => rate,
+                };
                 *term = pressure[i] / (rho_i * rho_i);
             });
     }

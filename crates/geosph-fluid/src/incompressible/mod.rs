@@ -66,6 +66,26 @@ pub struct PressureSolveSettings {
     /// zero from both sides. Only for flows without a free surface, where suction is physical
     /// (a vortex, a periodic channel); at a free surface it would pull spray back.
     pub negative_pressure: bool,
+    /// The source of PCISPH's and IISPH's pressure equation (default the density invariance
+    /// of the papers); DFSPH has both sources as its two solves.
+    pub source: PressureSource,
+}
+
+/// The source term of the pressure equation that PCISPH and IISPH solve (Cornelis, Bender,
+/// Gissler, Ihmsen & Teschner 2018, Vis. Comput. 34:1373, §3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PressureSource {
+    /// Density invariance (default): Δt² ∇·a^p = ρ₀ − ρ*_i with ρ*_i = ρ_i + Δt Σ_j m_j
+    /// (v*_i − v*_j)·∇_i W_ij, the papers' form: it also corrects the density the particles
+    /// have drifted to, and on disordered particles chases the summation density's scatter.
+    #[default]
+    DensityInvariance,
+    /// Velocity divergence: Δt² ∇·a^p = −Δt Σ_j m_j (v*_i − v*_j)·∇_i W_ij, the projection of
+    /// v* onto a divergence-free field, with no correction of the density itself (Cornelis et
+    /// al.'s VD; they correct the sampling by a particle shift, here the δ⁺-SPH shifting).
+    /// Only for flows without a free surface (`negative_pressure`), whose volume the domain
+    /// fixes; a free surface would lose volume step by step.
+    VelocityDivergence,
 }
 
 impl Default for PressureSolveSettings {
@@ -78,6 +98,7 @@ impl Default for PressureSolveSettings {
             cfl: 0.4,
             max_time_step: Some(0.005),
             negative_pressure: false,
+            source: PressureSource::DensityInvariance,
         }
     }
 }
