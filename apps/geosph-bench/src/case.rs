@@ -401,11 +401,11 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
                 // solve only as a 3 % bound on the compression; PCISPH and IISPH take the
                 // velocity-divergence source instead of the density (Cornelis et al. 2018).
                 incompressible.renormalise_gradients = true;
-                // A quarter of the default Courant number: at the default the shifting's
-                // per-step bounds (D ≤ h²/2, 0.1 Δx) cut its strength per unit time to a third
-                // or less,
-                // the particles cluster at the stagnation points and PCISPH and IISPH blow up
-                // at 50 × 50 (docs/incompressible.md).
+                // A quarter of the default Courant number (replacing the 0.4 × dt_factor
+                // above): at the default the shifting's per-step bounds (D ≤ h²/2, 0.1 Δx) cut
+                // its strength per unit time to between 2/3 and 1/5, the particles cluster at
+                // the stagnation points and PCISPH and IISPH blow up at 50 × 50
+                // (docs/incompressible.md).
                 incompressible.cfl = 0.1 * config.dt_factor;
                 if config.solver == "dfsph" {
                     incompressible.target_density_error = 0.03;

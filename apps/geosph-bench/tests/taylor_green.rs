@@ -1,5 +1,6 @@
-//! The Taylor–Green vortex (Re = 100, periodic unit box) with WCSPH and δ⁺-SPH particle
-//! shifting, against its exact decay (Taylor & Green 1937), at two coarse resolutions to t = 2.
+//! The Taylor–Green vortex (Re = 100, periodic unit box) with δ⁺-SPH particle shifting,
+//! against its exact decay (Taylor & Green 1937) to t = 2: WCSPH at two coarse resolutions,
+//! and DFSPH and IISPH in the harness's configuration.
 //!
 //! The bar for the fine run (100 × 100 particles) is a velocity L2 error ≤ 2 % and a kinetic
 //! energy within 1 % of e^{2bt}, converging at first order or better. At first order the

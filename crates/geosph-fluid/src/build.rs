@@ -98,6 +98,8 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
 
 /// Builds the incompressible solver `method` that `config` describes, monomorphised over the
 /// kernel it names (the viscous term is resolved once per pass: it acts once per step).
+/// `config` must have passed [`IncompressibleConfig::validate_for`] `method` (a scene's
+/// validation does that): DFSPH, for one, ignores a `source` it refuses there.
 pub fn build_incompressible<const D: usize>(
     method: IncompressibleMethod,
     config: &IncompressibleConfig,

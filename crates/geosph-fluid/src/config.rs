@@ -265,7 +265,8 @@ impl WcsphConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct IncompressibleConfig {
-    /// Target average relative compression (default 0.001 = 0.1 %).
+    /// Target average relative compression (default 0.001 = 0.1 %); with the
+    /// velocity-divergence `source`, the target of Δt |Dρ/Dt| / ρ₀.
     pub target_density_error: Real,
     /// Bound on any one particle's predicted compression (default 0.1 = 10 %): the solve
     /// iterates past the mean target while a particle that takes pressure exceeds it.
@@ -395,9 +396,9 @@ impl IncompressibleConfig {
         if method == IncompressibleMethod::Dfsph && self.source != PressureSource::default() {
             return Err(ConfigError::new(
                 "source",
-                "is for PCISPH and IISPH: DFSPH solves for both sources, the velocity \
-                 divergence in its divergence solve (`divergence_solve`) and the density in \
-                 its density solve"
+                "is for PCISPH and IISPH; DFSPH takes only `DensityInvariance` (the default): \
+                 it solves for both sources, the velocity divergence in its divergence solve \
+                 (`divergence_solve`) and the density in its density solve"
                     .to_owned(),
             ));
         }

@@ -26,6 +26,10 @@ use super::{
 /// (ibid., §3.3 and §4). ω is capped at [`PressureSystem::relaxation_limit`], below which the
 /// iteration converges on the kernel's lattice (0.5 is within it for Wendland C2 and the cubic
 /// spline in 2D, not for the quintic spline or in 3D).
+///
+/// With the velocity-divergence [`PressureSource`] the right-hand side is −Δt Σ_j m_j
+/// (v*_i − v*_j)·∇_i W_ij instead (Cornelis et al. 2019): the same iteration projects v* onto
+/// a divergence-free field without correcting the density.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Iisph {
     /// Relaxation ω of the Jacobi update (Ihmsen et al.: 0.5).
@@ -92,7 +96,8 @@ pub(crate) enum StopOn {
 }
 
 /// Solves for pressures p ≥ 0 that bring the density predicted from the velocities v* in
-/// `fluid.velocity` to ρ₀, by the fixed-point update p_i ← max(0, p_i + s_i (ρ̃_i − ρ₀)) with
+/// `fluid.velocity` to ρ₀ (with the velocity-divergence [`PressureSource`]: that make its
+/// predicted rate of change zero), by the fixed-point update p_i ← max(0, p_i + s_i (ρ̃_i − ρ₀)) with
 /// the per-particle step `step(i, ρ_i)`; then applies v ← v* + Δt a^p.
 ///
 /// Each iteration is two gather passes over the pairs: a^p from p, then the density change

@@ -48,6 +48,8 @@ pub struct PressureSolveSettings {
     /// Target of the mean relative density error of the predicted densities ρ̃ (default
     /// 0.001 = 0.1 %): for IISPH the complementarity error (|ρ̃/ρ₀ − 1| where p > 0, the
     /// compression max(ρ̃/ρ₀ − 1, 0) elsewhere), for PCISPH and DFSPH the compression alone.
+    /// With `negative_pressure` the mean |ρ̃/ρ₀ − 1|; with the velocity-divergence
+    /// [`PressureSource`] that error is Δt times the relative density rate, a divergence target.
     pub target_density_error: Real,
     /// Bound on the largest predicted compression (ρ̃_i − ρ₀)/ρ₀ of a particle that takes
     /// pressure (default 0.1 = 10 %): the solve goes on past the mean target while a particle
@@ -72,7 +74,8 @@ pub struct PressureSolveSettings {
 }
 
 /// The source term of the pressure equation that PCISPH and IISPH solve (Cornelis, Bender,
-/// Gissler, Ihmsen & Teschner 2018, Vis. Comput. 34:1373, §3).
+/// Gissler, Ihmsen & Teschner 2019, An optimized source term formulation for incompressible
+/// SPH, Vis. Comput. 35:579).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum PressureSource {
     /// Density invariance (default): Δt² ∇·a^p = ρ₀ − ρ*_i with ρ*_i = ρ_i + Δt Σ_j m_j

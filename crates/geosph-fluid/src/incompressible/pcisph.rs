@@ -25,7 +25,7 @@ use geosph_sph::lattice::lattice_gradient_squares;
 /// predicted positions with the old neighbour lists: the two agree to first order in Δt, and
 /// the first cannot miss a pair that the prediction moved into the support. With that, PCISPH
 /// is the fixed-point iteration of IISPH's system with one global step δ instead of the
-/// per-particle diagonal.
+/// per-particle diagonal, and takes IISPH's choice of [`PressureSource`](super::PressureSource).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pcisph {
     /// m² (|Σ_j ∇W_ij|² + Σ_j |∇W_ij|²) of the prototype particle.
