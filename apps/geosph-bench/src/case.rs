@@ -399,7 +399,7 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
                 // density's scatter on those particles, which is not compression
                 // (docs/incompressible.md, "The Taylor–Green vortex"). DFSPH keeps its density
                 // solve only as a 3 % bound on the compression; PCISPH and IISPH take the
-                // velocity-divergence source instead of the density (Cornelis et al. 2018).
+                // velocity-divergence source instead of the density (Cornelis et al. 2019).
                 incompressible.renormalise_gradients = true;
                 // A quarter of the default Courant number (replacing the 0.4 × dt_factor
                 // above): at the default the shifting's per-step bounds (D ≤ h²/2, 0.1 Δx) cut

@@ -61,7 +61,7 @@ fn dfsph_taylor_green_vortex_within_two_percent() {
     assert!(error <= 0.02, "L2 error {error} at 25 × 25 exceeds 2 %");
 }
 
-/// IISPH with the velocity-divergence source (Cornelis et al. 2018) and renormalised gradients,
+/// IISPH with the velocity-divergence source (Cornelis et al. 2019) and renormalised gradients,
 /// the harness's configuration: at 50 × 50, where it blew up at t = 0.2 s with the Courant
 /// number 0.4, it must meet the fine run's bar, an L2 error ≤ 2 % and a kinetic energy within
 /// 1 % of the exact decay (0.59 % and 0.998 measured; before, with the density source, 46 % at

@@ -337,8 +337,9 @@ impl Default for IncompressibleConfig {
 }
 
 impl IncompressibleConfig {
-    /// Checks every value against its allowed range (fields relative to the solver block).
-    pub fn validate(&self) -> Result<(), ConfigError> {
+    /// Checks every value against its allowed range (fields relative to the solver block), the
+    /// ones every method takes; [`IncompressibleConfig::validate_for`] adds the method's own.
+    fn validate(&self) -> Result<(), ConfigError> {
         in_range("target_density_error", self.target_density_error, 1e-6, 0.1)?;
         in_range(
             "max_compression",
@@ -391,7 +392,8 @@ impl IncompressibleConfig {
         self.viscosity.validate()
     }
 
-    /// [`IncompressibleConfig::validate`], and the fields that only some methods take.
+    /// Checks every value against its allowed range for `method` (fields relative to the
+    /// solver block): the ones every method takes, and those only some take.
     pub fn validate_for(&self, method: IncompressibleMethod) -> Result<(), ConfigError> {
         if method == IncompressibleMethod::Dfsph && self.source != PressureSource::default() {
             return Err(ConfigError::new(
@@ -452,16 +454,18 @@ mod tests {
         assert!(confined.validate().is_ok());
     }
 
+    /// The message with which `method` refuses `config`.
+    fn refusal(config: &IncompressibleConfig, method: IncompressibleMethod) -> String {
+        config.validate_for(method).unwrap_err().to_string()
+    }
+
     #[test]
     fn the_divergence_source_is_for_confined_flows_and_not_for_dfsph() {
         let free_surface = IncompressibleConfig {
             source: PressureSource::VelocityDivergence,
             ..Default::default()
         };
-        let message = free_surface
-            .validate_for(IncompressibleMethod::Iisph)
-            .unwrap_err()
-            .to_string();
+        let message = refusal(&free_surface, IncompressibleMethod::Iisph);
         assert!(
             message.contains("source") && message.contains("negative_pressure"),
             "{message}"
@@ -472,10 +476,7 @@ mod tests {
         };
         assert!(confined.validate_for(IncompressibleMethod::Iisph).is_ok());
         assert!(confined.validate_for(IncompressibleMethod::Pcisph).is_ok());
-        let message = confined
-            .validate_for(IncompressibleMethod::Dfsph)
-            .unwrap_err()
-            .to_string();
+        let message = refusal(&confined, IncompressibleMethod::Dfsph);
         assert!(
             message.contains("source") && message.contains("divergence_solve"),
             "{message}"

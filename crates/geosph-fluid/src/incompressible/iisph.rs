@@ -97,8 +97,9 @@ pub(crate) enum StopOn {
 
 /// Solves for pressures p ≥ 0 that bring the density predicted from the velocities v* in
 /// `fluid.velocity` to ρ₀ (with the velocity-divergence [`PressureSource`]: that make its
-/// predicted rate of change zero), by the fixed-point update p_i ← max(0, p_i + s_i (ρ̃_i − ρ₀)) with
-/// the per-particle step `step(i, ρ_i)`; then applies v ← v* + Δt a^p.
+/// predicted rate of change zero), by the fixed-point update
+/// p_i ← max(0, p_i + s_i (ρ̃_i − ρ₀)) with the per-particle step `step(i, ρ_i)`; then
+/// applies v ← v* + Δt a^p.
 ///
 /// Each iteration is two gather passes over the pairs: a^p from p, then the density change
 /// Δt² Σ_j m_j (a^p_i − a^p_j)·∇_i W_ij (+ walls) that a^p causes. The error over ρ₀ is that
