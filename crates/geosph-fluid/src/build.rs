@@ -143,6 +143,7 @@ impl<const D: usize> KernelVisitor<D> for IncompressibleBuilder<'_, D> {
             IncompressibleMethod::Iisph => {
                 let method = Iisph {
                     relaxation: config.relaxation,
+                    iteration: config.iteration,
                     ..Iisph::default()
                 };
                 self.finish(kernel, method)

@@ -12,7 +12,9 @@ use geosph_time::Scheme;
 use serde::{Deserialize, Serialize};
 
 use crate::diffusion::{DeltaAntuono2010, DeltaFourtakas2019, DeltaMolteni2009, DiffusionTerm};
-use crate::incompressible::{PressureSolveSettings, PressureSource, WallPressure};
+use crate::incompressible::{
+    PressureIteration, PressureSolveSettings, PressureSource, WallPressure,
+};
 
 /// The viscous term of a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -287,6 +289,9 @@ pub struct IncompressibleConfig {
     pub wall_pressure: WallPressure,
     /// IISPH: relaxation ω of the Jacobi update (default 0.5).
     pub relaxation: Real,
+    /// IISPH: how the pressure system is iterated (default `RelaxedJacobi`; `Bicgstab(())`
+    /// converges it, for pressures that a gauge can read in still and slow water).
+    pub iteration: PressureIteration,
     /// DFSPH: run the divergence-free solve (default true).
     pub divergence_solve: bool,
     /// DFSPH: target of the divergence solve, average Δt Dρ/Dt / ρ₀ (default 0.001).
@@ -325,6 +330,7 @@ impl Default for IncompressibleConfig {
             },
             wall_pressure: WallPressure::Hydrostatic,
             relaxation: 0.5,
+            iteration: PressureIteration::RelaxedJacobi,
             divergence_solve: true,
             target_divergence_error: 1e-3,
             reorder_every: 100,
@@ -395,6 +401,38 @@ impl IncompressibleConfig {
     /// Checks every value against its allowed range for `method` (fields relative to the
     /// solver block): the ones every method takes, and those only some take.
     pub fn validate_for(&self, method: IncompressibleMethod) -> Result<(), ConfigError> {
+        if let PressureIteration::Bicgstab(bicgstab) = self.iteration {
+            if method != IncompressibleMethod::Iisph {
+                return Err(ConfigError::new(
+                    "iteration",
+                    "`Bicgstab` is for IISPH only; PCISPH and DFSPH take `RelaxedJacobi` (the \
+                     default)"
+                        .to_owned(),
+                ));
+            }
+            if self.source != PressureSource::default() {
+                return Err(ConfigError::new(
+                    "source",
+                    "`Bicgstab` solves for the velocity divergence with a share \
+                     `density_relaxation` of the density error; for the divergence alone set \
+                     `density_relaxation: 0.0` and leave `source` at `DensityInvariance`"
+                        .to_owned(),
+                ));
+            }
+            in_range("iteration.tolerance", bicgstab.tolerance, 1e-10, 0.5)?;
+            in_range(
+                "iteration.density_relaxation",
+                bicgstab.density_relaxation,
+                0.0,
+                1.0,
+            )?;
+            if !(1..=100).contains(&bicgstab.active_set_passes) {
+                return Err(ConfigError::new(
+                    "iteration.active_set_passes",
+                    format!("must lie in [1, 100], got {}", bicgstab.active_set_passes),
+                ));
+            }
+        }
         if method == IncompressibleMethod::Dfsph && self.source != PressureSource::default() {
             return Err(ConfigError::new(
                 "source",
@@ -481,5 +519,28 @@ mod tests {
             message.contains("source") && message.contains("divergence_solve"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn the_bicgstab_solve_is_for_iisph_with_its_own_source() {
+        let bicgstab = IncompressibleConfig {
+            iteration: PressureIteration::Bicgstab(Default::default()),
+            ..Default::default()
+        };
+        assert!(bicgstab.validate_for(IncompressibleMethod::Iisph).is_ok());
+        for method in [IncompressibleMethod::Pcisph, IncompressibleMethod::Dfsph] {
+            let message = refusal(&bicgstab, method);
+            assert!(
+                message.contains("iteration") && message.contains("IISPH"),
+                "{message}"
+            );
+        }
+        let divergence = IncompressibleConfig {
+            source: PressureSource::VelocityDivergence,
+            negative_pressure: true,
+            ..bicgstab.clone()
+        };
+        let message = refusal(&divergence, IncompressibleMethod::Iisph);
+        assert!(message.contains("density_relaxation"), "{message}");
     }
 }

@@ -18,8 +18,8 @@
 use geosph_boundary::generate;
 use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_fluid::incompressible::{
-    Iisph, Incompressible, PressureMethod, PressureSolveSettings, PressureSystem, Scratch,
-    WallPressure,
+    Bicgstab, Iisph, Incompressible, PressureIteration, PressureMethod, PressureSolveSettings,
+    PressureSystem, Scratch, WallPressure,
 };
 use geosph_kernels::{Kernel, WendlandC2};
 use geosph_sph::ViscousTerm;
@@ -78,8 +78,14 @@ fn density_change(
     scratch.divergence.iter().map(|d| dt * dt * d).collect()
 }
 
-#[test]
-fn converged_iisph_pressure_equals_a_direct_solve() {
+/// The disordered block's solver, its fluid with v* = v + Δt a* (gravity and the wall head)
+/// and p = 0, the step Δt, and the source ρ*_i − ρ₀ of each particle.
+fn loaded_step() -> (
+    Incompressible<2, WendlandC2<2>, Iisph>,
+    Particles<2>,
+    Real,
+    Vec<Real>,
+) {
     let dx = 0.02;
     let (positions, tank) = disordered_block(dx);
     let mut fluid = Particles::at_rest(positions, RHO0 * dx * dx, RHO0);
@@ -103,18 +109,10 @@ fn converged_iisph_pressure_equals_a_direct_solve() {
     .unwrap();
     let system = &solver.system;
     let n = fluid.len();
-    let mut scratch = Scratch {
-        acceleration: vec![Vector::zeros(); n],
-        pressure_term: vec![0.0; n],
-        divergence: vec![0.0; n],
-        residual: vec![0.0; n],
-        ..Scratch::default()
-    };
-
-    // v* = v + Δt a* (gravity and the wall head), and the density it predicts.
     let dt = 0.004;
-    system.non_pressure_acceleration(&fluid, &mut scratch.acceleration);
-    for (v, a) in fluid.velocity.iter_mut().zip(&scratch.acceleration) {
+    let mut acceleration = vec![Vector::zeros(); n];
+    system.non_pressure_acceleration(&fluid, &mut acceleration);
+    for (v, a) in fluid.velocity.iter_mut().zip(&acceleration) {
         *v += a * dt;
     }
     let mut divergence = vec![0.0; n];
@@ -127,18 +125,47 @@ fn converged_iisph_pressure_equals_a_direct_solve() {
     let source: Vec<Real> = (0..n)
         .map(|i| fluid.density[i] + dt * divergence[i] - RHO0)
         .collect();
+    fluid.pressure.as_mut().unwrap().fill(0.0);
+    (solver, fluid, dt, source)
+}
 
-    // IISPH from p = 0, a fixed 20 000 relaxed Jacobi iterations (target 0: never stops early).
+/// Scratch arrays for `n` particles.
+fn scratch(n: usize) -> Scratch<2> {
+    Scratch {
+        acceleration: vec![Vector::zeros(); n],
+        pressure_term: vec![0.0; n],
+        divergence: vec![0.0; n],
+        residual: vec![0.0; n],
+        ..Scratch::default()
+    }
+}
+
+/// IISPH's relaxed Jacobi from p = 0, a fixed 20 000 iterations (target 0: never stops
+/// early): the converged pressure.
+fn converged_jacobi(
+    system: &System,
+    fluid: &Particles<2>,
+    dt: Real,
+    scratch: &mut Scratch<2>,
+) -> Vec<Real> {
     let settings = PressureSolveSettings {
         target_density_error: 0.0,
         min_iterations: 20_000,
         max_iterations: 20_000,
         ..Default::default()
     };
-    fluid.pressure.as_mut().unwrap().fill(0.0);
     let mut iterated = fluid.clone();
-    Iisph::default().correct_density(system, &mut iterated, dt, &settings, &mut scratch);
-    let pressure = iterated.pressure.unwrap();
+    Iisph::default().correct_density(system, &mut iterated, dt, &settings, scratch);
+    iterated.pressure.unwrap()
+}
+
+#[test]
+fn converged_iisph_pressure_equals_a_direct_solve() {
+    let (solver, fluid, dt, source) = loaded_step();
+    let system = &solver.system;
+    let n = fluid.len();
+    let mut scratch = scratch(n);
+    let pressure = converged_jacobi(system, &fluid, dt, &mut scratch);
     let p_max = pressure.iter().copied().fold(0.0, Real::max);
     let active: Vec<usize> = (0..n).filter(|&i| pressure[i] > 0.0).collect();
     println!(
@@ -203,4 +230,47 @@ fn converged_iisph_pressure_equals_a_direct_solve() {
     }
     println!("largest compression at p = 0: {worst:.2e}");
     assert!(worst < 1e-9, "a particle at p = 0 is compressed by {worst}");
+}
+
+/// With β = 1 the BiCGSTAB solve's source, the velocity divergence plus β (ρ − ρ₀), is the
+/// density-invariance source, so converged it must give the relaxed Jacobi's converged
+/// pressures (the direct solve's, above), active set included.
+#[test]
+fn bicgstab_with_the_whole_density_error_equals_the_converged_jacobi() {
+    let (solver, fluid, dt, _) = loaded_step();
+    let system = &solver.system;
+    let mut scratch = scratch(fluid.len());
+    let reference = converged_jacobi(system, &fluid, dt, &mut scratch);
+    let bicgstab = Iisph {
+        iteration: PressureIteration::Bicgstab(Bicgstab {
+            tolerance: 1e-12,
+            density_relaxation: 1.0,
+            active_set_passes: 30,
+        }),
+        ..Iisph::default()
+    };
+    let mut solved = fluid.clone();
+    let settings = PressureSolveSettings {
+        max_iterations: 1000,
+        ..Default::default()
+    };
+    let report = bicgstab
+        .clone()
+        .correct_density(system, &mut solved, dt, &settings, &mut scratch);
+    let pressure = solved.pressure.unwrap();
+    let p_max = reference.iter().copied().fold(0.0, Real::max);
+    let largest = pressure
+        .iter()
+        .zip(&reference)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0, Real::max);
+    println!(
+        "{} BiCGSTAB iterations; largest |p_BiCGSTAB − p_Jacobi| = {largest:.3e} Pa ({:.1e} of p_max)",
+        report.iterations,
+        largest / p_max
+    );
+    assert!(
+        largest < 1e-6 * p_max,
+        "BiCGSTAB and Jacobi differ by {largest} Pa"
+    );
 }

@@ -7,7 +7,8 @@ use rayon::prelude::*;
 
 use super::system::MIN_LEN;
 use super::{
-    PressureMethod, PressureSolveSettings, PressureSource, PressureSystem, Scratch, SolveReport,
+    PressureIteration, PressureMethod, PressureSolveSettings, PressureSource, PressureSystem,
+    Scratch, SolveReport,
 };
 
 /// IISPH: the pressure Poisson equation from the continuity equation,
@@ -36,6 +37,8 @@ pub struct Iisph {
     pub relaxation: Real,
     /// Factor on the previous step's pressure as the initial guess (0.5).
     pub warm_start: Real,
+    /// The iteration (default relaxed Jacobi).
+    pub iteration: PressureIteration,
 }
 
 impl Default for Iisph {
@@ -43,6 +46,7 @@ impl Default for Iisph {
         Self {
             relaxation: 0.5,
             warm_start: 0.5,
+            iteration: PressureIteration::RelaxedJacobi,
         }
     }
 }
@@ -58,6 +62,9 @@ impl<const D: usize> PressureMethod<D> for Iisph {
         settings: &PressureSolveSettings,
         scratch: &mut Scratch<D>,
     ) -> SolveReport {
+        if let PressureIteration::Bicgstab(bicgstab) = self.iteration {
+            return bicgstab.solve(system, fluid, dt, settings, scratch);
+        }
         let warm_start = self.warm_start;
         let diagonal = system.diagonal();
         let pressure = fluid.pressure.as_mut().expect("pressure is enabled");

@@ -19,11 +19,13 @@
 
 mod dfsph;
 mod iisph;
+mod krylov;
 mod pcisph;
 mod system;
 
 pub use dfsph::Dfsph;
 pub use iisph::Iisph;
+pub use krylov::{Bicgstab, KrylovScratch, PressureIteration};
 pub use pcisph::Pcisph;
 pub use system::{DIAGONAL_FLOOR, PressureSystem, WallPressure};
 
@@ -131,6 +133,8 @@ pub struct Scratch<const D: usize> {
     pub shift: Vec<Vector<D>>,
     /// Particle volumes m/ρ (for shifting).
     pub volume: Vec<Real>,
+    /// Work vectors of the Krylov solve.
+    pub krylov: KrylovScratch,
 }
 
 impl<const D: usize> Scratch<D> {

@@ -307,6 +307,29 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
         sum * -self.gradient_correction
     }
 
+    /// The density rate Σ_j m_j (a_i − a_j)·∇_i W_ij + a_i·Σ_b m_b ∇_i W_ib that the
+    /// pressure accelerations `acceleration` cause, the walls held still: the linear part of
+    /// [`Self::divergence_at`] in a pressure solve, whose walls' own motion is known.
+    #[inline]
+    pub fn pressure_divergence_at(
+        &self,
+        i: usize,
+        mass: &[Real],
+        acceleration: &[Vector<D>],
+    ) -> Real {
+        let a_i = acceleration[i];
+        let (start, end) = range(self.lists.inner(), i);
+        let mut sum = a_i.dot(&self.wall_gradient_sum[i]);
+        for (&j, gradient) in self.lists.inner().indices[start..end]
+            .iter()
+            .zip(&self.fluid_gradient[start..end])
+        {
+            let j = j as usize;
+            sum += mass[j] * (a_i - acceleration[j]).dot(gradient);
+        }
+        sum
+    }
+
     /// The SPH divergence Σ_j m_j (u_i − u_j)·∇_i W_ij + Σ_b m_b (u_i − u_b)·∇_i W_ib of a
     /// velocity-like field `u` (continuity equation, Monaghan 1992, eq. 2.9), with `wall` the
     /// walls' value of the field (their velocity or acceleration).

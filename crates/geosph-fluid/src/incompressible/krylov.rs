@@ -1,0 +1,392 @@
+//! IISPH's pressure system solved by BiCGSTAB: a projection of the velocities with a gentle
+//! density correction, converged in its long modes.
+
+use geosph_core::{Particles, Real, Vector};
+use geosph_kernels::Kernel;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::system::MIN_LEN;
+use super::{PressureSolveSettings, PressureSystem, Scratch, SolveReport};
+
+/// How IISPH iterates its pressure system.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum PressureIteration {
+    /// Relaxed Jacobi with the papers' density-invariance source (default; Ihmsen et al.
+    /// 2014): cheap per step, but it stops after a few iterations, before the pressure's long
+    /// modes have converged, so the pressure of still water alternates from step to step.
+    #[default]
+    RelaxedJacobi,
+    /// BiCGSTAB on the velocity-divergence source with a density correction ([`Bicgstab`]).
+    Bicgstab(Bicgstab),
+}
+
+/// Settings of the BiCGSTAB pressure solve (van der Vorst 1992, SIAM J. Sci. Stat. Comput.
+/// 13:631, Algorithm "preconditioned Bi-CGSTAB", with the Jacobi preconditioner −Δt² d_i).
+///
+/// The source is the velocity divergence of v* plus a fraction of the density error,
+///
+/// Δt² Σ_j m_j (a^p_i − a^p_j)·∇_i W_ij + Δt² a^p_i·Σ_b m_b ∇_i W_ib
+///   = −Δt Σ_j m_j (v*_i − v*_j)·∇_i W_ij − (walls) − β (ρ_i − ρ₀),
+///
+/// the velocity-divergence source of Cornelis, Bender, Gissler, Ihmsen & Teschner (2019, Vis.
+/// Comput. 35:579) with β = `density_relaxation` of the density-invariance source added, so a
+/// density error decays by (1 − β) per step instead of being removed in one: a converged
+/// solve of the density-invariance source alone turns density errors of 10⁻⁵ in a long mode
+/// into pressures of ρ₀ g H, and alternates by 20 % in still water (`docs/incompressible.md`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Bicgstab {
+    /// Stop when the residual's 2-norm is at most this fraction of the source's (default 0.01).
+    pub tolerance: Real,
+    /// Fraction β of the density error ρ − ρ₀ removed per step (default 0.1).
+    pub density_relaxation: Real,
+    /// Most solves per step on an updated active set (default 2: from the previous step's
+    /// pressure the set changes little; from p = 0 it takes more).
+    pub active_set_passes: usize,
+}
+
+impl Default for Bicgstab {
+    fn default() -> Self {
+        Self {
+            tolerance: 0.01,
+            density_relaxation: 0.1,
+            active_set_passes: 2,
+        }
+    }
+}
+
+/// Particles per partial sum of the dot products: the sums are the same for any thread count.
+const CHUNK: usize = 256;
+
+/// Work vectors of the BiCGSTAB solve ([`Bicgstab`]), reused every step.
+#[derive(Clone, Debug, Default)]
+pub struct KrylovScratch {
+    /// The unknown π = p/ρ².
+    unknown: Vec<Real>,
+    source: Vec<Real>,
+    residual: Vec<Real>,
+    shadow: Vec<Real>,
+    direction: Vec<Real>,
+    image: Vec<Real>,
+    corrected: Vec<Real>,
+    corrected_image: Vec<Real>,
+    preconditioned: Vec<Real>,
+    /// −1/(Δt² d_i) on the active set, 0 elsewhere.
+    inverse_diagonal: Vec<Real>,
+    partial: Vec<[Real; 2]>,
+}
+
+impl KrylovScratch {
+    fn resize(&mut self, n: usize) {
+        for v in [
+            &mut self.unknown,
+            &mut self.source,
+            &mut self.residual,
+            &mut self.shadow,
+            &mut self.direction,
+            &mut self.image,
+            &mut self.corrected,
+            &mut self.corrected_image,
+            &mut self.preconditioned,
+            &mut self.inverse_diagonal,
+        ] {
+            v.resize(n, 0.0);
+        }
+        self.partial.resize(n.div_ceil(CHUNK).max(1), [0.0; 2]);
+    }
+}
+
+/// The chunks' partial sums, added in order.
+fn total(partial: &[[Real; 2]]) -> [Real; 2] {
+    partial
+        .iter()
+        .fold([0.0; 2], |[a, b], [x, y]| [a + x, b + y])
+}
+
+/// The linear part of the solve's operator and its sums.
+struct Operator<'a, const D: usize, K: Kernel<D>> {
+    system: &'a PressureSystem<D, K>,
+    mass: &'a [Real],
+    dt: Real,
+}
+
+impl<const D: usize, K: Kernel<D>> Operator<'_, D, K> {
+    /// y_i = Δt² (Σ_j m_j (a_i − a_j)·∇_i W_ij + a_i·Σ_b m_b ∇_i W_ib) with a the pressure
+    /// acceleration of π = `x`, where `rows(i)` (0 elsewhere); returns ⟨y, y⟩ and ⟨y, w⟩.
+    fn apply(
+        &self,
+        x: &[Real],
+        rows: impl Fn(usize) -> bool + Sync,
+        acceleration: &mut [Vector<D>],
+        y: &mut [Real],
+        w: &[Real],
+        partial: &mut [[Real; 2]],
+    ) -> [Real; 2] {
+        let (system, mass, dt) = (self.system, self.mass, self.dt);
+        system.pressure_acceleration(mass, x, acceleration);
+        let acceleration = &*acceleration;
+        y.par_chunks_mut(CHUNK)
+            .zip(partial.par_iter_mut())
+            .enumerate()
+            .for_each(|(k, (y, sum))| {
+                *sum = [0.0; 2];
+                for (l, y_i) in y.iter_mut().enumerate() {
+                    let i = k * CHUNK + l;
+                    *y_i = if rows(i) {
+                        dt * dt * system.pressure_divergence_at(i, mass, acceleration)
+                    } else {
+                        0.0
+                    };
+                    sum[0] += *y_i * *y_i;
+                    sum[1] += *y_i * w[i];
+                }
+            });
+        total(partial)
+    }
+}
+
+impl Bicgstab {
+    /// Solves for pressures p ≥ 0 (any sign with `negative_pressure`) and applies
+    /// v ← v* + Δt a^p. Unknowns are π = p/ρ², started from the previous step's pressure
+    /// whole, on an active set: the particles that take pressure (d_i > 0) and either had
+    /// pressure or are predicted compressed. After each converged solve, particles with p < 0
+    /// leave the set and particles outside it predicted compressed beyond the density target
+    /// enter it, and the solve repeats, at most `active_set_passes` times.
+    pub(crate) fn solve<const D: usize, K: Kernel<D>>(
+        &self,
+        system: &PressureSystem<D, K>,
+        fluid: &mut Particles<D>,
+        dt: Real,
+        settings: &PressureSolveSettings,
+        scratch: &mut Scratch<D>,
+    ) -> SolveReport {
+        let n = fluid.len();
+        let work = &mut scratch.krylov;
+        work.resize(n);
+        let rho0 = system.rest_density;
+        let Particles {
+            velocity,
+            mass,
+            density,
+            pressure,
+            ..
+        } = fluid;
+        let pressure = pressure.as_mut().expect("pressure is enabled");
+        let (mass, density) = (&*mass, &*density);
+        let acceleration = &mut scratch.acceleration;
+        let walls = &system.walls;
+        let diagonal = system.diagonal();
+        let free = settings.negative_pressure;
+        let beta = self.density_relaxation;
+        let operator = Operator { system, mass, dt };
+
+        // The source b_i and the active set with the warm start.
+        acceleration
+            .par_iter_mut()
+            .for_each(|a| *a = Vector::zeros());
+        {
+            let (velocity, acceleration) = (&*velocity, &*acceleration);
+            (
+                work.source.par_iter_mut(),
+                work.inverse_diagonal.par_iter_mut(),
+                work.unknown.par_iter_mut(),
+            )
+                .into_par_iter()
+                .enumerate()
+                .with_min_len(MIN_LEN)
+                .for_each(|(i, (b, inverse, x))| {
+                    let rate = dt * system.divergence_at(i, mass, velocity, &walls.velocity);
+                    // The walls' own acceleration, the constant part of Δt² ∇·a.
+                    let wall =
+                        dt * dt * system.divergence_at(i, mass, acceleration, &walls.acceleration);
+                    *b = -(rate + wall + beta * (density[i] - rho0));
+                    let active = diagonal[i] > 0.0 && (free || pressure[i] > 0.0 || *b < 0.0);
+                    *inverse = if active {
+                        -1.0 / (dt * dt * diagonal[i])
+                    } else {
+                        0.0
+                    };
+                    *x = if active {
+                        pressure[i] / (density[i] * density[i])
+                    } else {
+                        0.0
+                    };
+                });
+        }
+        let [source_norm, _] = {
+            let source = &work.source;
+            work.partial
+                .par_iter_mut()
+                .zip(source.par_chunks(CHUNK))
+                .for_each(|(sum, b)| *sum = [b.iter().map(|b| b * b).sum(), 0.0]);
+            total(&work.partial)
+        };
+        let target = self.tolerance * self.tolerance * source_norm;
+
+        let mut report = SolveReport::default();
+        for _ in 0..self.active_set_passes {
+            report.iterations += self.iterate(&operator, work, acceleration, target, settings);
+            if free {
+                break;
+            }
+            // p = max(p, 0) and the density it predicts everywhere; update the set.
+            work.unknown.par_iter_mut().for_each(|x| *x = x.max(0.0));
+            let KrylovScratch {
+                unknown,
+                source,
+                image,
+                inverse_diagonal,
+                partial,
+                ..
+            } = work;
+            operator.apply(
+                unknown,
+                |i| diagonal[i] > 0.0,
+                acceleration,
+                image,
+                source,
+                partial,
+            );
+            let compressed = settings.target_density_error * rho0;
+            let mut changed = false;
+            for i in 0..n {
+                let active = inverse_diagonal[i] != 0.0;
+                if active && unknown[i] <= 0.0 {
+                    inverse_diagonal[i] = 0.0;
+                    changed = true;
+                } else if !active && diagonal[i] > 0.0 && image[i] - source[i] > compressed {
+                    inverse_diagonal[i] = -1.0 / (dt * dt * diagonal[i]);
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+
+        // Mean predicted error over ρ₀, from the last residual.
+        report.error =
+            work.residual.iter().map(|r| r.abs()).sum::<Real>() / (n.max(1) as Real) / rho0;
+        pressure
+            .par_iter_mut()
+            .zip(work.unknown.par_iter())
+            .enumerate()
+            .for_each(|(i, (p, x))| *p = x * density[i] * density[i]);
+        let x = &work.unknown;
+        velocity
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(MIN_LEN)
+            .for_each(|(i, v)| *v += system.pressure_acceleration_at(i, mass, x) * dt);
+        report
+    }
+
+    /// Preconditioned BiCGSTAB on the active rows from the current unknowns, until
+    /// ‖r‖² ≤ `target` or the iteration limit; returns the iterations taken.
+    fn iterate<const D: usize, K: Kernel<D>>(
+        &self,
+        operator: &Operator<'_, D, K>,
+        work: &mut KrylovScratch,
+        acceleration: &mut [Vector<D>],
+        target: Real,
+        settings: &PressureSolveSettings,
+    ) -> usize {
+        let KrylovScratch {
+            unknown: x,
+            source: b,
+            residual: r,
+            shadow,
+            direction: p,
+            image: v,
+            corrected: s,
+            corrected_image: t,
+            preconditioned: z,
+            inverse_diagonal: inverse,
+            partial,
+        } = work;
+        let inverse = &*inverse;
+        let active = |i: usize| inverse[i] != 0.0;
+        // r = b − A x on the active rows, r̂ = r.
+        operator.apply(x, active, acceleration, v, b, partial);
+        (r.par_iter_mut(), shadow.par_iter_mut(), p.par_iter_mut())
+            .into_par_iter()
+            .zip(b.par_iter().zip(v.par_iter()))
+            .enumerate()
+            .for_each(|(i, ((r, shadow, p), (b, v)))| {
+                *r = if active(i) { b - v } else { 0.0 };
+                *shadow = *r;
+                *p = 0.0;
+            });
+        v.par_iter_mut().for_each(|v| *v = 0.0);
+        let mut r_norm: Real = r.iter().map(|r| r * r).sum();
+        let mut rho = r_norm;
+        let (mut alpha, mut omega, mut rho_previous) = (1.0, 1.0, 1.0);
+        let mut iterations = 0;
+        while iterations < settings.max_iterations && r_norm > target && rho != 0.0 {
+            let beta = (rho / rho_previous) * (alpha / omega);
+            // p = r + β (p − ω v), z = M⁻¹ p.
+            (p.par_iter_mut(), z.par_iter_mut())
+                .into_par_iter()
+                .zip((r.par_iter(), v.par_iter(), inverse.par_iter()).into_par_iter())
+                .for_each(|((p, z), (r, v, inverse))| {
+                    *p = r + beta * (*p - omega * v);
+                    *z = *p * inverse;
+                });
+            let [_, shadow_v] = operator.apply(z, active, acceleration, v, shadow, partial);
+            if shadow_v == 0.0 {
+                break;
+            }
+            alpha = rho / shadow_v;
+            // x += α z, s = r − α v, z = M⁻¹ s, with ‖s‖².
+            (
+                x.par_chunks_mut(CHUNK),
+                s.par_chunks_mut(CHUNK),
+                z.par_chunks_mut(CHUNK),
+            )
+                .into_par_iter()
+                .zip(partial.par_iter_mut())
+                .enumerate()
+                .for_each(|(k, ((x, s, z), sum))| {
+                    *sum = [0.0; 2];
+                    for (l, ((x, s), z)) in
+                        x.iter_mut().zip(s.iter_mut()).zip(z.iter_mut()).enumerate()
+                    {
+                        let i = k * CHUNK + l;
+                        *x += alpha * *z;
+                        *s = r[i] - alpha * v[i];
+                        *z = *s * inverse[i];
+                        sum[0] += *s * *s;
+                    }
+                });
+            iterations += 1;
+            if total(partial)[0] <= target {
+                std::mem::swap(r, s);
+                break;
+            }
+            let [tt, ts] = operator.apply(z, active, acceleration, t, s, partial);
+            omega = if tt > 0.0 { ts / tt } else { 0.0 };
+            // x += ω z, r = s − ω t, with ‖r‖² and ⟨r̂, r⟩.
+            (x.par_chunks_mut(CHUNK), r.par_chunks_mut(CHUNK))
+                .into_par_iter()
+                .zip(partial.par_iter_mut())
+                .enumerate()
+                .for_each(|(k, ((x, r), sum))| {
+                    *sum = [0.0; 2];
+                    for (l, (x, r)) in x.iter_mut().zip(r.iter_mut()).enumerate() {
+                        let i = k * CHUNK + l;
+                        *x += omega * z[i];
+                        *r = s[i] - omega * t[i];
+                        sum[0] += *r * *r;
+                        sum[1] += *r * shadow[i];
+                    }
+                });
+            rho_previous = rho;
+            [r_norm, rho] = total(partial);
+            if omega == 0.0 {
+                break;
+            }
+        }
+        iterations
+    }
+}
