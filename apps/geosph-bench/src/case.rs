@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use geosph_core::{Particles, Real};
 use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
-use geosph_fluid::incompressible::PressureSource;
+use geosph_fluid::incompressible::{PressureIteration, PressureSource};
 use geosph_kernels::KernelKind;
 use geosph_runner::{NoObserver, Observer, RunOptions, Summary};
 use geosph_scene::{Scene, SolverSpec, WallSpec};
@@ -390,6 +390,11 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
         | SolverSpec::Iisph(incompressible)
         | SolverSpec::Dfsph(incompressible) => {
             incompressible.cfl *= config.dt_factor;
+            incompressible.iteration = match config.variant {
+                "default" => PressureIteration::RelaxedJacobi,
+                "bicgstab" => PressureIteration::Bicgstab(Default::default()),
+                other => return Err(format!("unknown {} variant `{other}`", config.solver)),
+            };
             if case == Case::TaylorGreen {
                 incompressible.viscosity = laminar;
                 incompressible.negative_pressure = true;

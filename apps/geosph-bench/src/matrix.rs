@@ -77,6 +77,17 @@ pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
             }
             let middle = dxs[dxs.len() / 2];
             configs.push(config(solver, "wendland-c2", variant, middle, 2.0));
+            // IISPH's converged BiCGSTAB solve, on the cases with still or free-surface water.
+            if solver == "iisph"
+                && matches!(
+                    case,
+                    Case::Hydrostatic | Case::DamBreak | Case::WallPressure
+                )
+            {
+                for &dx in &dxs {
+                    configs.push(config(solver, "wendland-c2", "bicgstab", dx, 1.0));
+                }
+            }
             if solver == "wcsph" && !case.is_soil() {
                 for other in ["molteni", "antuono", "none"] {
                     for &dx in &dxs {

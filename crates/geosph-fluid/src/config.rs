@@ -290,7 +290,9 @@ pub struct IncompressibleConfig {
     /// IISPH: relaxation ω of the Jacobi update (default 0.5).
     pub relaxation: Real,
     /// IISPH: how the pressure system is iterated (default `RelaxedJacobi`; `Bicgstab(())`
-    /// converges it, for pressures that a gauge can read in still and slow water).
+    /// converges it, for pressures that a gauge can read in still and slow water; it reads
+    /// `max_iterations` per active-set pass, `target_density_error` and `max_compression`
+    /// as its [`Bicgstab`](crate::incompressible::Bicgstab) documents).
     pub iteration: PressureIteration,
     /// DFSPH: run the divergence-free solve (default true).
     pub divergence_solve: bool,
@@ -413,9 +415,10 @@ impl IncompressibleConfig {
             if self.source != PressureSource::default() {
                 return Err(ConfigError::new(
                     "source",
-                    "`Bicgstab` solves for the velocity divergence with a share \
-                     `density_relaxation` of the density error; for the divergence alone set \
-                     `density_relaxation: 0.0` and leave `source` at `DensityInvariance`"
+                    "`Bicgstab` has its own source, the velocity divergence with a share \
+                     `density_relaxation` of the density error; leave `source` at \
+                     `DensityInvariance` (the default) and set `density_relaxation: 0.0` for \
+                     no relaxed density term"
                         .to_owned(),
                 ));
             }

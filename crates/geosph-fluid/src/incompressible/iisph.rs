@@ -28,6 +28,9 @@ use super::{
 /// iteration converges on the kernel's lattice (0.5 is within it for Wendland C2 and the cubic
 /// spline in 2D, not for the quintic spline or in 3D).
 ///
+/// With `iteration: Bicgstab` the system is solved by BiCGSTAB instead, on its own source
+/// ([`Bicgstab`](super::Bicgstab)); the rest of this description is the relaxed Jacobi's.
+///
 /// With the velocity-divergence [`PressureSource`] the right-hand side is −Δt Σ_j m_j
 /// (v*_i − v*_j)·∇_i W_ij instead (Cornelis et al. 2019): the same iteration projects v* onto
 /// a divergence-free field without correcting the density.

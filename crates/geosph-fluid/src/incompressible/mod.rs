@@ -114,7 +114,8 @@ pub struct SolveReport {
     /// Iterations of the solve.
     pub iterations: usize,
     /// Its last average error (relative compression, or for DFSPH's divergence solve Δt
-    /// times the relative density rate).
+    /// times the relative density rate; for IISPH's [`Bicgstab`] the mean |residual|/ρ₀ of
+    /// its equation).
     pub error: Real,
 }
 
