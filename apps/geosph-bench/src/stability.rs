@@ -21,7 +21,9 @@ use crate::matrix::{FLUID_SOLVERS, KERNELS};
 use crate::{Case, Config};
 
 mod stress;
-pub use stress::{ImpactOutcome, impact, impact_outcome, jittered_start, long_run, tension};
+pub use stress::{
+    IISPH_BICGSTAB, ImpactOutcome, impact, impact_outcome, jittered_start, long_run, tension,
+};
 
 /// One stability result.
 #[derive(Clone, Debug, PartialEq)]
@@ -158,6 +160,12 @@ pub fn run_all(quick: bool) -> Vec<StabilityResult> {
         }
         tests.push(Box::new(move || jittered_start(solver, quick)));
         tests.push(Box::new(move || impact(solver, quick)));
+    }
+    // The opt-in converged IISPH solve, on the stress cases.
+    if !quick {
+        tests.push(Box::new(|| long_run(IISPH_BICGSTAB, false, false)));
+        tests.push(Box::new(|| jittered_start(IISPH_BICGSTAB, false)));
+        tests.push(Box::new(|| impact(IISPH_BICGSTAB, false)));
     }
     for artificial_stress in [false, true] {
         tests.push(Box::new(move || tension(artificial_stress, quick)));

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use geosph_core::{Particles, Real};
 use geosph_fluid::config::DiffusionConfig;
+use geosph_fluid::incompressible::PressureIteration;
 use geosph_runner::{Observer, RunOptions};
 use geosph_scene::{InitialVelocity, Scene, SolverSpec};
 
@@ -63,6 +64,21 @@ impl<const D: usize> Observer<D> for TankWatch {
     }
 }
 
+/// The default solver of `name`, or for [`IISPH_BICGSTAB`] IISPH with its BiCGSTAB solve.
+fn solver_spec(name: &str) -> Result<SolverSpec, String> {
+    if name == IISPH_BICGSTAB {
+        let mut spec = SolverSpec::from_name("iisph").expect("a solver");
+        if let SolverSpec::Iisph(config) = &mut spec {
+            config.iteration = PressureIteration::Bicgstab(Default::default());
+        }
+        return Ok(spec);
+    }
+    SolverSpec::from_name(name).ok_or_else(|| format!("unknown solver `{name}`"))
+}
+
+/// The subject name of IISPH with `iteration: Bicgstab(())` in the stress cases.
+pub const IISPH_BICGSTAB: &str = "iisph+bicgstab";
+
 fn tank_scene(solver: &str, dx: Real, end_time: Real, jitter: Real) -> Result<Scene, String> {
     let mut scene = Scene::from_ron(&format!(
         "Scene(name: \"tank\", dimension: 2, dx: {dx}, end_time: {end_time},
@@ -73,7 +89,7 @@ fn tank_scene(solver: &str, dx: Real, end_time: Real, jitter: Real) -> Result<Sc
         sample = end_time / 100.0
     ))
     .map_err(|error| error.to_string())?;
-    scene.solver = SolverSpec::from_name(solver).ok_or("unknown solver")?;
+    scene.solver = solver_spec(solver)?;
     Ok(scene)
 }
 
@@ -257,7 +273,7 @@ pub fn impact_outcome(solver: &str, dx: Real) -> Result<ImpactOutcome, String> {
     ))
     .map_err(|error| error.to_string());
     let summary = scene.and_then(|mut scene| {
-        scene.solver = SolverSpec::from_name(solver).ok_or("unknown solver")?;
+        scene.solver = solver_spec(solver)?;
         run(&scene, &RunOptions::default(), &mut extent)
     })?;
     Ok(ImpactOutcome {
