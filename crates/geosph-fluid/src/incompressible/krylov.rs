@@ -198,11 +198,8 @@ impl Bicgstab {
         let operator = Operator { system, mass, dt };
 
         // The source b_i and the active set with the warm start.
-        acceleration
-            .par_iter_mut()
-            .for_each(|a| *a = Vector::zeros());
         {
-            let (velocity, acceleration) = (&*velocity, &*acceleration);
+            let velocity = &*velocity;
             (
                 work.source.par_iter_mut(),
                 work.inverse_diagonal.par_iter_mut(),
@@ -214,8 +211,9 @@ impl Bicgstab {
                 .for_each(|(i, (b, inverse, x))| {
                     let rate = dt * system.divergence_at(i, mass, velocity, &walls.velocity);
                     // The walls' own acceleration, the constant part of Δt² ∇·a.
-                    let wall =
-                        dt * dt * system.divergence_at(i, mass, acceleration, &walls.acceleration);
+                    let wall = dt
+                        * dt
+                        * system.add_wall_divergence(i, Vector::zeros(), &walls.acceleration, 0.0);
                     let error = density[i] - rho0;
                     let excess = (error - tolerated).max(0.0);
                     *b = -(rate + wall + beta * error + (1.0 - beta) * excess);
@@ -244,7 +242,7 @@ impl Bicgstab {
 
         let mut report = SolveReport::default();
         for _ in 0..self.active_set_passes {
-            report.iterations += self.iterate(&operator, work, acceleration, target, settings);
+            report.iterations += Self::iterate(&operator, work, acceleration, target, settings);
             if free {
                 break;
             }
@@ -303,7 +301,6 @@ impl Bicgstab {
     /// Preconditioned BiCGSTAB on the active rows from the current unknowns, until
     /// ‖r‖² ≤ `target` or the iteration limit; returns the iterations taken.
     fn iterate<const D: usize, K: Kernel<D>>(
-        &self,
         operator: &Operator<'_, D, K>,
         work: &mut KrylovScratch,
         acceleration: &mut [Vector<D>],

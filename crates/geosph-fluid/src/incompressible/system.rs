@@ -367,6 +367,20 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
             let j = j as usize;
             sum += mass[j] * (u_i - field[j]).dot(gradient);
         }
+        self.add_wall_divergence(i, u_i, wall, sum)
+    }
+
+    /// `sum` plus the walls' part Σ_b m_b (u_i − u_b)·∇_i W_ib of [`Self::divergence_at`],
+    /// for the field value `u_i` of particle `i` and the walls' values `wall` (added term by
+    /// term to `sum`, so [`Self::divergence_at`] keeps its rounding).
+    #[inline]
+    pub fn add_wall_divergence(
+        &self,
+        i: usize,
+        u_i: Vector<D>,
+        wall: &[Vector<D>],
+        mut sum: Real,
+    ) -> Real {
         let (start, end) = range(self.lists.contact(), i);
         for (&b, gradient) in self.lists.contact().indices[start..end]
             .iter()
