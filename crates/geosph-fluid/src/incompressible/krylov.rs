@@ -39,11 +39,12 @@ pub enum PressureIteration {
 /// from a jittered lattice, 25 % compressed in places, blew up in its first step without it.
 ///
 /// The shared [`PressureSolveSettings`] mean, under this solve: `max_iterations` the most
-/// BiCGSTAB iterations per active-set pass (each applies the operator twice);
+/// BiCGSTAB iterations per active-set pass (each applies the operator twice; a pass that
+/// reaches it keeps its iterate of smallest residual);
 /// `target_density_error` the predicted compression beyond which a particle outside the set
 /// enters it; `max_compression` κ above. `min_iterations`, and IISPH's `relaxation` and
 /// `warm_start`, are not used (the start is the previous pressure whole). The report's error
-/// is the mean |r_i|/ρ₀ of the solved equation's last residual over all particles.
+/// is the mean |r_i|/ρ₀ of the solved equation's kept residual over all particles.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Bicgstab {
@@ -89,6 +90,9 @@ pub struct KrylovScratch {
     preconditioned: Vec<Real>,
     /// −1/(Δt² d_i) on the active set, 0 elsewhere.
     inverse_diagonal: Vec<Real>,
+    /// The iterate with the smallest residual so far, and its residual.
+    best_unknown: Vec<Real>,
+    best_residual: Vec<Real>,
     partial: Vec<[Real; 2]>,
 }
 
@@ -105,6 +109,8 @@ impl KrylovScratch {
             &mut self.corrected_image,
             &mut self.preconditioned,
             &mut self.inverse_diagonal,
+            &mut self.best_unknown,
+            &mut self.best_residual,
         ] {
             v.resize(n, 0.0);
         }
@@ -299,7 +305,11 @@ impl Bicgstab {
     }
 
     /// Preconditioned BiCGSTAB on the active rows from the current unknowns, until
-    /// ‖r‖² ≤ `target` or the iteration limit; returns the iterations taken.
+    /// ‖r‖² ≤ `target` or the iteration limit; returns the iterations taken. BiCGSTAB's
+    /// residual does not fall monotonically, so a solve that stops unconverged keeps the
+    /// iterate of smallest residual: the last one can be far worse (in the dam break at
+    /// dx = 0.0125 m, whose first step from the hydrostatic start does not converge in 100
+    /// iterations, it held pressures of ±1.5 ρ₀gH and the run blew up in step 2).
     fn iterate<const D: usize, K: Kernel<D>>(
         operator: &Operator<'_, D, K>,
         work: &mut KrylovScratch,
@@ -318,6 +328,8 @@ impl Bicgstab {
             corrected_image: t,
             preconditioned: z,
             inverse_diagonal: inverse,
+            best_unknown,
+            best_residual,
             partial,
         } = work;
         let inverse = &*inverse;
@@ -335,6 +347,9 @@ impl Bicgstab {
             });
         v.par_iter_mut().for_each(|v| *v = 0.0);
         let mut r_norm: Real = r.iter().map(|r| r * r).sum();
+        let mut best_norm = r_norm;
+        best_unknown.copy_from_slice(x);
+        best_residual.copy_from_slice(r);
         let mut rho = r_norm;
         let (mut alpha, mut omega, mut rho_previous) = (1.0, 1.0, 1.0);
         let mut iterations = 0;
@@ -375,8 +390,10 @@ impl Bicgstab {
                     }
                 });
             iterations += 1;
-            if total(partial)[0] <= target {
+            let [s_norm, _] = total(partial);
+            if s_norm <= target {
                 std::mem::swap(r, s);
+                r_norm = s_norm;
                 break;
             }
             let [tt, ts] = operator.apply(z, active, acceleration, t, s, partial);
@@ -398,9 +415,18 @@ impl Bicgstab {
                 });
             rho_previous = rho;
             [r_norm, rho] = total(partial);
+            if r_norm < best_norm {
+                best_norm = r_norm;
+                best_unknown.copy_from_slice(x);
+                best_residual.copy_from_slice(r);
+            }
             if omega == 0.0 {
                 break;
             }
+        }
+        if r_norm > best_norm {
+            x.copy_from_slice(best_unknown);
+            r.copy_from_slice(best_residual);
         }
         iterations
     }
