@@ -6,6 +6,7 @@ mod dam_break;
 mod determinism;
 mod escape;
 mod factor_of_safety;
+mod geometry;
 mod hostile_scenes;
 mod incompressible;
 mod kernels;

@@ -51,6 +51,11 @@ fn load(cli: &Cli) -> Result<Scene, String> {
         Some(path) => format!("{}: {error}", path.display()),
         None => error.to_string(),
     })?;
+    scene.folder = cli
+        .scene
+        .as_deref()
+        .and_then(std::path::Path::parent)
+        .map(std::path::Path::to_path_buf);
     if let Some(dx) = cli.dx {
         scene.dx = dx;
     }

@@ -63,6 +63,11 @@ fn load(cli: &Cli) -> Result<Scene, String> {
         None => slope_failure::DEFAULT_SCENE.to_owned(),
     };
     let mut scene = Scene::from_ron(&text).map_err(|error| error.to_string())?;
+    scene.folder = cli
+        .scene
+        .as_deref()
+        .and_then(std::path::Path::parent)
+        .map(std::path::Path::to_path_buf);
     if let Some(dx) = cli.dx {
         scene.dx = dx;
     }

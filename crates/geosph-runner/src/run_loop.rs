@@ -52,6 +52,8 @@ pub(crate) struct RunLoop<'a, const D: usize> {
     checkpoints: CheckpointClock,
     checkpoint_path: Option<PathBuf>,
     wall_particles: usize,
+    /// How the scene's blocks were filled, for the summary.
+    blocks: Vec<geosph_scene::BlockReport>,
     first_step: usize,
     started: Instant,
     last_draw: Instant,
@@ -68,7 +70,9 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         options: &'a RunOptions,
         observer: &'a mut dyn Observer<D>,
     ) -> Result<Self, RunError> {
-        let (mut fluid, solver_inputs) = geosph_scene::build::<D>(scene)?.split();
+        let setup = geosph_scene::build::<D>(scene)?;
+        let blocks = setup.blocks.clone();
+        let (mut fluid, solver_inputs) = setup.split();
         let probes = PressureProbes::<D>::new(
             &scene.output.probes,
             solver_inputs.kernel,
@@ -121,6 +125,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
                 .as_ref()
                 .map(|dir| dir.join(checkpoint::FILE_NAME)),
             wall_particles,
+            blocks,
             first_step,
             started,
             last_draw: Instant::now(),
@@ -417,6 +422,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             dimension: D,
             fluid_particles: fluid.len(),
             wall_particles: self.wall_particles,
+            blocks: self.blocks.clone(),
             steps,
             simulated_time: state.time,
             wall_time,

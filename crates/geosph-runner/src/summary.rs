@@ -1,6 +1,7 @@
 //! What a run did: [`Summary`], printed by the apps at the end of a run.
 
 use geosph_core::Real;
+use geosph_scene::BlockReport;
 use geosph_sph::StageReport;
 
 /// What a run did.
@@ -20,6 +21,9 @@ pub struct Summary {
     pub fluid_particles: usize,
     /// Wall particles.
     pub wall_particles: usize,
+    /// How the scene's blocks were filled; the summary lists the meshes (filled against the
+    /// mesh's own volume) and the blocks an earlier one overlapped.
+    pub blocks: Vec<BlockReport>,
     /// Time steps taken.
     pub steps: usize,
     /// Simulated time reached, s.
@@ -70,6 +74,27 @@ impl std::fmt::Display for Summary {
             "particles          {} {material} + {} wall ({} bytes of fields per {material} particle)",
             self.fluid_particles, self.wall_particles, self.bytes_per_particle
         )?;
+        let unit = if self.dimension == 2 { "m²" } else { "m³" };
+        for (index, block) in self.blocks.iter().enumerate() {
+            let mesh = block.name.starts_with("mesh");
+            if mesh || block.overlapped > 0 {
+                write!(
+                    f,
+                    "  block {index}          {}: {} particles",
+                    block.name, block.particles
+                )?;
+                if block.overlapped > 0 {
+                    write!(f, " (+{} sites an earlier block filled)", block.overlapped)?;
+                }
+                writeln!(
+                    f,
+                    ", lattice sites {:.4e} {unit} for its {:.4e} ({:+.2} %)",
+                    block.filled,
+                    block.volume,
+                    100.0 * (block.filled / block.volume - 1.0)
+                )?;
+            }
+        }
         writeln!(
             f,
             "steps              {} to t = {:.4} s (mean dt = {:.3e} s)",

@@ -45,6 +45,10 @@ pub struct Scene {
     /// Limits of the blow-up checks.
     #[serde(default)]
     pub health: HealthSpec,
+    /// The folder that relative file names (meshes) are read from, e.g. the scene file's
+    /// folder (the apps set it so); `None`: the working folder. Not part of the file.
+    #[serde(skip)]
+    pub folder: Option<std::path::PathBuf>,
 }
 
 /// Limits of the runner's blow-up checks that a scene may change.
@@ -141,6 +145,28 @@ pub enum Region {
         /// Vertices (x, y).
         vertices: Vec<(Real, Real)>,
     },
+    /// The volume inside a closed surface mesh (`.stl` or `.obj`), filled on the lattice
+    /// aligned with the origin. The mesh's z axis points up; a mesh point x becomes
+    /// `scale` · x + `offset`. In a 2D scene the region is the mesh's section by the plane
+    /// y = `section` (after scaling and offset): 2D (x, y) is mesh (x, `section`, z).
+    Mesh {
+        /// The mesh file, relative to the scene file's folder (or the working folder for a
+        /// scene given as text).
+        file: String,
+        /// Scale factor of the mesh's coordinates (default 1; e.g. 0.001 for a mesh in mm).
+        #[serde(default = "default_scale")]
+        scale: Real,
+        /// Offset added after scaling, one number per scene dimension (default zero).
+        #[serde(default)]
+        offset: Vec<Real>,
+        /// 2D scenes: the mesh's y of the section plane (default 0).
+        #[serde(default)]
+        section: Real,
+    },
+}
+
+fn default_scale() -> Real {
+    1.0
 }
 
 /// The fluid of a scene.

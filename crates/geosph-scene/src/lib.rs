@@ -8,7 +8,9 @@
 //! Modules:
 //! - [`format`](mod@format): the serde types of the scene file.
 //! - [`validate`]: range checks with errors naming the field ([`SceneError`]).
-//! - [`setup`]: particles, walls, domain, smoothing length and sound speed of a scene.
+//! - [`setup`]: particles, walls, domain, smoothing length and sound speed of a scene; the
+//!   fluid's blocks (boxes, polygons, closed meshes) are filled as one union, each lattice
+//!   site once ([`BlockReport`]).
 //!
 //! # Example
 //!
@@ -40,6 +42,7 @@ mod error;
 pub mod format;
 mod initial;
 mod parse;
+mod regions;
 pub mod setup;
 pub mod validate;
 
@@ -47,5 +50,6 @@ pub use format::{
     FluidSpec, HealthSpec, InitialVelocity, OutputSpec, ProbeSpec, Region, Scene, SolverSpec,
     WallSpec,
 };
+pub use regions::BlockReport;
 pub use setup::{Setup, build};
 pub use validate::SceneError;

@@ -7,8 +7,9 @@ use geosph_sph::EquationOfState;
 use geosph_sph::SphSetup;
 
 use crate::error::SceneError;
-use crate::format::{Region, Scene, WallSpec};
+use crate::format::{Scene, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity, vector};
+use crate::regions::{BlockReport, Filled, fill_blocks};
 
 /// What a solver is built from: the scene turned into particles and numbers.
 #[derive(Clone, Debug)]
@@ -33,6 +34,8 @@ pub struct Setup<const D: usize> {
     pub fluid_height: Real,
     /// Particle spacing dx.
     pub spacing: Real,
+    /// How each fluid block was filled.
+    pub blocks: Vec<BlockReport>,
 }
 
 impl<const D: usize> Setup<D> {
@@ -158,32 +161,11 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     let fluid_spec = scene.fluid.as_ref().expect("validated");
 
     // Fluid particles and the free-surface height above each (its block's top).
-    let mut position = Vec::new();
-    let mut surface = Vec::new();
-    for block in &fluid_spec.blocks {
-        let points: Vec<Vector<D>> = match block {
-            Region::Box { min, max } => {
-                generate::fill_box(&vector::<D>(min), &vector::<D>(max), dx)
-            }
-            Region::Polygon { vertices } => {
-                let vertices: Vec<Vector<2>> = vertices
-                    .iter()
-                    .map(|&(x, y)| Vector::<2>::new(x, y))
-                    .collect();
-                generate::fill_polygon(&vertices, &Vector::<2>::zeros(), dx)
-                    .into_iter()
-                    .map(|p| Vector::<D>::from_fn(|k, _| p[k]))
-                    .collect()
-            }
-        };
-        let top = points
-            .iter()
-            .map(|p| p[up])
-            .fold(Real::NEG_INFINITY, Real::max)
-            + 0.5 * dx;
-        surface.extend(std::iter::repeat_n(top, points.len()));
-        position.extend(points);
-    }
+    let Filled {
+        mut position,
+        surface,
+        blocks,
+    } = fill_blocks::<D>(scene)?;
     if fluid_spec.jitter > 0.0 {
         jitter(&mut position, fluid_spec.jitter * dx);
     }
@@ -384,5 +366,6 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         gravity,
         fluid_height,
         spacing: dx,
+        blocks,
     })
 }

@@ -334,6 +334,8 @@ impl Scene {
                         };
                         ((extent(&xs) / dx).ceil() + 1.0) * ((extent(&ys) / dx).ceil() + 1.0)
                     }
+                    // Known once the file is read; `build` bounds it then.
+                    Region::Mesh { .. } => 0.0,
                 };
             }
         }
@@ -377,6 +379,26 @@ impl Scene {
                         ));
                     }
                     finite_pairs(&format!("{field}.vertices"), vertices)?;
+                }
+                Region::Mesh {
+                    file,
+                    scale,
+                    offset,
+                    section,
+                } => {
+                    if file.trim().is_empty() {
+                        return Err(fail(format!("{field}.file"), "names no file"));
+                    }
+                    positive(&format!("{field}.scale"), *scale)?;
+                    if !offset.is_empty() {
+                        point(&format!("{field}.offset"), offset, self.dimension)?;
+                    }
+                    if !section.is_finite() {
+                        return Err(fail(
+                            format!("{field}.section"),
+                            format!("must be finite, got {section}"),
+                        ));
+                    }
                 }
             }
         }
