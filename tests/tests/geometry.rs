@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 
 use geosph_core::Vector;
 use geosph_geometry::{SurfaceMesh, primitives};
-use geosph_scene::{Scene, build};
+use geosph_scene::{Scene, WallSpec, build};
+
+use crate::wcsph::{check_hydrostatic, hydrostatic_scene, run_hydrostatic_scene};
 
 fn scratch(name: &str) -> PathBuf {
     let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
@@ -166,4 +168,74 @@ fn bad_meshes_are_refused_naming_the_block_the_file_and_the_problem() {
         );
         assert_eq!(error.lines().count(), 1, "{error}");
     }
+}
+
+/// A channel of width 1 m and height 1 m along the mesh's y (−0.5 to 0.5): bed and two side
+/// walls, their triangles facing the water, open at the top and at both ends.
+fn channel() -> SurfaceMesh {
+    let v = |x: f64, y: f64, z: f64| Vector::<3>::new(x, y, z);
+    let faces = [
+        (
+            [
+                v(0.0, -0.5, 0.0),
+                v(1.0, -0.5, 0.0),
+                v(1.0, 0.5, 0.0),
+                v(0.0, 0.5, 0.0),
+            ],
+            v(0.0, 0.0, 1.0),
+        ),
+        (
+            [
+                v(0.0, -0.5, 0.0),
+                v(0.0, 0.5, 0.0),
+                v(0.0, 0.5, 1.0),
+                v(0.0, -0.5, 1.0),
+            ],
+            v(1.0, 0.0, 0.0),
+        ),
+        (
+            [
+                v(1.0, -0.5, 0.0),
+                v(1.0, 0.5, 0.0),
+                v(1.0, 0.5, 1.0),
+                v(1.0, -0.5, 1.0),
+            ],
+            v(-1.0, 0.0, 0.0),
+        ),
+    ];
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for (quad, facing) in faces {
+        let first = vertices.len() as u32;
+        vertices.extend(quad);
+        for [a, b, c] in [[0, 1, 2], [0, 2, 3]] {
+            let normal = (quad[b] - quad[a]).cross(&(quad[c] - quad[a]));
+            let [a, b, c] = [a, b, c].map(|k| first + k as u32);
+            triangles.push(if normal.dot(&facing) > 0.0 {
+                [a, b, c]
+            } else {
+                [a, c, b]
+            });
+        }
+    }
+    SurfaceMesh::new("channel", vertices, triangles).unwrap()
+}
+
+#[test]
+fn a_still_tank_in_a_mesh_channel_holds_the_hydrostatic_pressure() {
+    let folder = scratch("geometry-channel");
+    write_obj(&channel(), &folder.join("channel.obj"));
+    let (dx, depth) = (0.02, 0.6);
+    let mut scene = hydrostatic_scene(2, dx, depth, 2.0);
+    scene.walls = vec![WallSpec::Mesh {
+        file: "channel.obj".into(),
+        scale: 1.0,
+        offset: Vec::new(),
+        section: 0.0,
+        layers: 3,
+    }];
+    scene.folder = Some(folder);
+    let (average, particles) = run_hydrostatic_scene(scene, dx, depth);
+    let (_, fluid) = average.last.plane.as_ref().unwrap();
+    check_hydrostatic(fluid, &average.mean(), particles, dx, depth, 1.0);
 }

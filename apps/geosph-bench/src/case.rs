@@ -189,7 +189,9 @@ impl Case {
             .map_err(|_| format!("unknown kernel `{}`", config.kernel))?;
         let needed = (kernel.support_factor() * scene.smoothing_ratio - 1e-9).ceil() as usize;
         for wall in &mut scene.walls {
-            let (WallSpec::Tank { layers, .. } | WallSpec::Polyline { layers, .. }) = wall;
+            let (WallSpec::Tank { layers, .. }
+            | WallSpec::Polyline { layers, .. }
+            | WallSpec::Mesh { layers, .. }) = wall;
             *layers = (*layers).max(needed);
         }
         scene.end_time = end_time;

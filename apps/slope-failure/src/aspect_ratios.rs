@@ -46,6 +46,7 @@ pub fn column_scene(a: Real) -> Scene {
             WallSpec::Polyline { points, .. } => {
                 *points = vec![(length, 0.0), (length, height + 0.02)];
             }
+            WallSpec::Mesh { .. } => unreachable!("the default scene has no mesh wall"),
         }
     }
     if let SolverSpec::Soil(config) = &mut scene.solver

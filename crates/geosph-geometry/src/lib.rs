@@ -1,7 +1,8 @@
 //! Geometry for SPH set-ups: surface meshes read from STL and OBJ files and checked
 //! ([`SurfaceMesh`]), the solids they bound ([`Solid`]) filled with particles on the
 //! lattice, in 3D or in a vertical [`Section`] for 2D scenes, and closed meshes of simple
-//! solids ([`primitives`]).
+//! solids ([`primitives`]); the surfaces walls are laid behind ([`WallSurface`]), open or
+//! closed, with the normal and depth of each wall site.
 //!
 //! The inside test and distances come from dimforge's `parry` (its angle-weighted
 //! pseudo-normals); the files are read by `stl_io` and `tobj`. Positions are geosph's
@@ -28,6 +29,8 @@
 mod mesh;
 pub mod primitives;
 mod solid;
+mod surface;
 
 pub use mesh::{MeshError, SurfaceMesh};
 pub use solid::{Section, Solid};
+pub use surface::{WallSite, WallSurface};

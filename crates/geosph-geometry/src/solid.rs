@@ -31,7 +31,7 @@ impl std::fmt::Debug for Solid {
     }
 }
 
-fn to_parry(x: &Vector<3>) -> ParryVector {
+pub(crate) fn to_parry(x: &Vector<3>) -> ParryVector {
     ParryVector::new(x[0], x[1], x[2])
 }
 
@@ -183,7 +183,7 @@ impl Section {
     }
 
     /// The 2D bounding box of the mesh's vertices projected on the plane.
-    fn bounds(&self, mesh: &SurfaceMesh) -> (Vector<2>, Vector<2>) {
+    pub(crate) fn bounds(&self, mesh: &SurfaceMesh) -> (Vector<2>, Vector<2>) {
         mesh.vertices.iter().map(|v| self.project(v)).fold(
             (
                 Vector::<2>::repeat(Real::INFINITY),

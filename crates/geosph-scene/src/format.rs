@@ -262,6 +262,27 @@ pub enum WallSpec {
         #[serde(default)]
         velocity: (Real, Real),
     },
+    /// Dummy particles behind a surface mesh (`.stl` or `.obj`, open or closed) whose
+    /// triangles face the flow: a terrain with normals up, an obstacle with outward normals,
+    /// a container with inward ones. The lattice sites (aligned with the origin) behind the
+    /// surface by less than `layers` dx, convex and concave corners included. Placement as
+    /// in [`Region::Mesh`]; in 2D the walls of the section plane y = `section`.
+    Mesh {
+        /// The mesh file, relative to the scene file's folder.
+        file: String,
+        /// Scale factor of the mesh's coordinates (default 1).
+        #[serde(default = "default_scale")]
+        scale: Real,
+        /// Offset added after scaling, one number per scene dimension (default zero).
+        #[serde(default)]
+        offset: Vec<Real>,
+        /// 2D scenes: the mesh's y of the section plane (default 0).
+        #[serde(default)]
+        section: Real,
+        /// Thickness in lattice spacings (default 3; at least support radius / dx).
+        #[serde(default = "default_layers")]
+        layers: usize,
+    },
 }
 
 fn default_layers() -> usize {

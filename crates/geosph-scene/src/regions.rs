@@ -12,6 +12,53 @@ use crate::format::{Region, Scene};
 use crate::initial::vector;
 use crate::validate::MAX_PARTICLES;
 
+/// Reads the mesh `file` (relative to `folder`) and places it: x ↦ `scale` · x + `offset`,
+/// the offset of a 2D scene being (x, z) of the mesh.
+pub(crate) fn read_mesh<const D: usize>(
+    file: &str,
+    scale: Real,
+    offset: &[Real],
+    folder: Option<&Path>,
+) -> Result<SurfaceMesh, String> {
+    let path = folder.map_or_else(|| Path::new(file).to_owned(), |f| f.join(file));
+    let offset = match offset {
+        [] => Vector::<3>::zeros(),
+        [x, z] if D == 2 => Vector::<3>::new(*x, 0.0, *z),
+        [x, y, z] => Vector::<3>::new(*x, *y, *z),
+        _ => unreachable!("validated"),
+    };
+    Ok(SurfaceMesh::read(&path)
+        .map_err(|error| error.to_string())?
+        .transformed(scale, &offset))
+}
+
+/// An error if the lattice sites of `mesh`'s bounding box, grown by `margin` on every side,
+/// are more than a scene may hold (in 2D those of the x–z plane).
+pub(crate) fn check_size<const D: usize>(
+    mesh: &SurfaceMesh,
+    dx: Real,
+    margin: Real,
+) -> Result<(), String> {
+    let (lo, hi) = mesh.bounds();
+    let axes = if D == 2 {
+        [0, 2].as_slice()
+    } else {
+        [0, 1, 2].as_slice()
+    };
+    let sites: Real = axes
+        .iter()
+        .map(|&k| ((hi[k] - lo[k] + 2.0 * margin) / dx).ceil() + 1.0)
+        .product();
+    if sites > MAX_PARTICLES {
+        return Err(format!(
+            "the mesh `{}` spans {sites:.3e} lattice sites at dx = {dx}, more than \
+             {MAX_PARTICLES:.0e}: increase dx, or check `scale` (a mesh in mm?)",
+            mesh.name
+        ));
+    }
+    Ok(())
+}
+
 /// How one fluid block was filled, for the run's summary.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlockReport {
@@ -59,42 +106,17 @@ impl<const D: usize> Shape<D> {
                 offset,
                 section,
             } => {
-                let path = folder.map_or_else(|| Path::new(file).to_owned(), |f| f.join(file));
                 let fail = |message: String| SceneError::Field {
                     field: field.to_owned(),
                     message,
                 };
-                let offset = match offset.as_slice() {
-                    [] => Vector::<3>::zeros(),
-                    [x, z] if D == 2 => Vector::<3>::new(*x, 0.0, *z),
-                    [x, y, z] => Vector::<3>::new(*x, *y, *z),
-                    _ => unreachable!("validated"),
-                };
-                let mesh = SurfaceMesh::read(&path)
-                    .map_err(|error| fail(error.to_string()))?
-                    .transformed(*scale, &offset);
+                let mesh = read_mesh::<D>(file, *scale, offset, folder).map_err(fail)?;
                 let solid = Box::new(Solid::new(mesh).map_err(|error| {
                     fail(format!(
                         "{error} (a fluid volume needs a closed surface; walls may be open)"
                     ))
                 })?);
-                let (lo, hi) = solid.mesh().bounds();
-                let axes = if D == 2 {
-                    [0, 2].as_slice()
-                } else {
-                    [0, 1, 2].as_slice()
-                };
-                let sites: Real = axes
-                    .iter()
-                    .map(|&k| ((hi[k] - lo[k]) / dx).ceil() + 1.0)
-                    .product();
-                if sites > MAX_PARTICLES {
-                    return Err(fail(format!(
-                        "the mesh `{}` spans {sites:.3e} lattice sites at dx = {dx}, more than \
-                         {MAX_PARTICLES:.0e}: increase dx, or check `scale` (mesh in mm?)",
-                        path.display()
-                    )));
-                }
+                check_size::<D>(solid.mesh(), dx, 0.0).map_err(fail)?;
                 if D == 2 {
                     Self::Section(solid, Section::at_y(*section))
                 } else {

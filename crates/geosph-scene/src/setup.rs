@@ -9,7 +9,8 @@ use geosph_sph::SphSetup;
 use crate::error::SceneError;
 use crate::format::{Scene, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity, vector};
-use crate::regions::{BlockReport, Filled, fill_blocks};
+use crate::regions::{BlockReport, Filled, check_size, fill_blocks, read_mesh};
+use geosph_geometry::{Section, WallSurface};
 
 /// What a solver is built from: the scene turned into particles and numbers.
 #[derive(Clone, Debug)]
@@ -140,6 +141,64 @@ fn behind_polyline<const D: usize>(
     None
 }
 
+/// The dummy particles behind a mesh wall ([`WallSpec::Mesh`]): `placement` is its file,
+/// scale, offset and section.
+fn mesh_walls<const D: usize>(
+    scene: &Scene,
+    field: &str,
+    (file, scale, offset, section): (&str, Real, &[Real], Real),
+    layers: usize,
+    rest_density: Real,
+) -> Result<WallParticles<D>, SceneError> {
+    let fail = |message: String| SceneError::Field {
+        field: field.to_owned(),
+        message,
+    };
+    let dx = scene.dx;
+    let thickness = layers as Real * dx;
+    let mesh = read_mesh::<D>(file, scale, offset, scene.folder.as_deref()).map_err(fail)?;
+    check_size::<D>(&mesh, dx, thickness).map_err(fail)?;
+    let surface = WallSurface::new(mesh).map_err(|error| fail(error.to_string()))?;
+    let (position, normal, depth): (Vec<Vector<D>>, Vec<Vector<D>>, Vec<Real>) = if D == 2 {
+        let sites = surface.wall_sites_in_section(
+            &Section::at_y(section),
+            &Vector::<2>::zeros(),
+            dx,
+            thickness,
+        );
+        let lift = |x: Vector<2>| Vector::<D>::from_fn(|k, _| x[k]);
+        sites
+            .into_iter()
+            .map(|s| (lift(s.position), lift(s.normal), s.depth))
+            .collect()
+    } else {
+        let sites = surface.wall_sites(&Vector::<3>::zeros(), dx, thickness);
+        let lift = |x: Vector<3>| Vector::<D>::from_fn(|k, _| x[k]);
+        sites
+            .into_iter()
+            .map(|s| (lift(s.position), lift(s.normal), s.depth))
+            .collect()
+    };
+    if position.is_empty() {
+        return Err(fail(format!(
+            "the mesh `{}` has no lattice site behind it at dx = {dx}{}",
+            surface.mesh().name,
+            if D == 2 {
+                ": move the section plane into the mesh"
+            } else {
+                ""
+            }
+        )));
+    }
+    Ok(WallParticles::fixed(
+        position,
+        normal,
+        depth,
+        dx.powi(D as i32),
+        rest_density,
+    ))
+}
+
 /// Builds the particles and solver inputs of a validated `scene` in `D` dimensions.
 ///
 /// # Panics
@@ -194,7 +253,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         .iter()
         .map(|wall| match wall {
             WallSpec::Polyline { velocity, .. } => velocity.0.hypot(velocity.1),
-            WallSpec::Tank { .. } => 0.0,
+            WallSpec::Tank { .. } | WallSpec::Mesh { .. } => 0.0,
         })
         .fold(0.0, Real::max);
     let largest_speed = (2.0 * g * fluid_height)
@@ -294,6 +353,19 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     .fill(Vector::<2>::new(velocity.0, velocity.1));
                 walls.extend(to_dimension::<D>(plane));
             }
+            WallSpec::Mesh {
+                file,
+                scale,
+                offset,
+                section,
+                layers,
+            } => walls.extend(mesh_walls::<D>(
+                scene,
+                &format!("walls[{index}]"),
+                (file, *scale, offset, *section),
+                *layers,
+                rest_density,
+            )?),
         }
     }
 

@@ -104,6 +104,31 @@ fn lattice_points(min: &[Real], max: &[Real], dx: Real, pad: Real) -> Real {
         .product()
 }
 
+/// The file and placement of a mesh region or wall.
+fn mesh_placement(
+    field: &str,
+    file: &str,
+    scale: Real,
+    offset: &[Real],
+    section: Real,
+    dimension: usize,
+) -> Result<(), SceneError> {
+    if file.trim().is_empty() {
+        return Err(fail(format!("{field}.file"), "names no file"));
+    }
+    positive(&format!("{field}.scale"), scale)?;
+    if !offset.is_empty() {
+        point(&format!("{field}.offset"), offset, dimension)?;
+    }
+    if !section.is_finite() {
+        return Err(fail(
+            format!("{field}.section"),
+            format!("must be finite, got {section}"),
+        ));
+    }
+    Ok(())
+}
+
 fn boxed(field: &str, min: &[Real], max: &[Real], dimension: usize) -> Result<(), SceneError> {
     point(&format!("{field}.min"), min, dimension)?;
     point(&format!("{field}.max"), max, dimension)?;
@@ -271,6 +296,16 @@ impl Scene {
                     }
                     *layers
                 }
+                WallSpec::Mesh {
+                    file,
+                    scale,
+                    offset,
+                    section,
+                    layers,
+                } => {
+                    mesh_placement(&field, file, *scale, offset, *section, dimension)?;
+                    *layers
+                }
             };
             if layers < needed || layers > 10 {
                 return Err(fail(
@@ -354,6 +389,8 @@ impl Scene {
                         .sum();
                     (length / dx + points.len() as Real) * *layers as Real
                 }
+                // Known once the file is read; `build` bounds it then.
+                WallSpec::Mesh { .. } => 0.0,
             };
         }
         count
@@ -385,21 +422,7 @@ impl Scene {
                     scale,
                     offset,
                     section,
-                } => {
-                    if file.trim().is_empty() {
-                        return Err(fail(format!("{field}.file"), "names no file"));
-                    }
-                    positive(&format!("{field}.scale"), *scale)?;
-                    if !offset.is_empty() {
-                        point(&format!("{field}.offset"), offset, self.dimension)?;
-                    }
-                    if !section.is_finite() {
-                        return Err(fail(
-                            format!("{field}.section"),
-                            format!("must be finite, got {section}"),
-                        ));
-                    }
-                }
+                } => mesh_placement(&field, file, *scale, offset, *section, self.dimension)?,
             }
         }
         in_range("fluid.jitter", fluid.jitter, 0.0, 0.4)?;
