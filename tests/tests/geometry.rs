@@ -170,39 +170,8 @@ fn bad_meshes_are_refused_naming_the_block_the_file_and_the_problem() {
     }
 }
 
-/// A channel of width 1 m and height 1 m along the mesh's y (−0.5 to 0.5): bed and two side
-/// walls, their triangles facing the water, open at the top and at both ends.
-fn channel() -> SurfaceMesh {
-    let v = |x: f64, y: f64, z: f64| Vector::<3>::new(x, y, z);
-    let faces = [
-        (
-            [
-                v(0.0, -0.5, 0.0),
-                v(1.0, -0.5, 0.0),
-                v(1.0, 0.5, 0.0),
-                v(0.0, 0.5, 0.0),
-            ],
-            v(0.0, 0.0, 1.0),
-        ),
-        (
-            [
-                v(0.0, -0.5, 0.0),
-                v(0.0, 0.5, 0.0),
-                v(0.0, 0.5, 1.0),
-                v(0.0, -0.5, 1.0),
-            ],
-            v(1.0, 0.0, 0.0),
-        ),
-        (
-            [
-                v(1.0, -0.5, 0.0),
-                v(1.0, 0.5, 0.0),
-                v(1.0, 0.5, 1.0),
-                v(1.0, -0.5, 1.0),
-            ],
-            v(-1.0, 0.0, 0.0),
-        ),
-    ];
+/// A mesh of quads, each given by its corners and the direction its front faces.
+fn quads(name: &str, faces: &[([Vector<3>; 4], Vector<3>)]) -> SurfaceMesh {
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
     for (quad, facing) in faces {
@@ -211,14 +180,50 @@ fn channel() -> SurfaceMesh {
         for [a, b, c] in [[0, 1, 2], [0, 2, 3]] {
             let normal = (quad[b] - quad[a]).cross(&(quad[c] - quad[a]));
             let [a, b, c] = [a, b, c].map(|k| first + k as u32);
-            triangles.push(if normal.dot(&facing) > 0.0 {
+            triangles.push(if normal.dot(facing) > 0.0 {
                 [a, b, c]
             } else {
                 [a, c, b]
             });
         }
     }
-    SurfaceMesh::new("channel", vertices, triangles).unwrap()
+    SurfaceMesh::new(name, vertices, triangles).unwrap()
+}
+
+fn v(x: f64, y: f64, z: f64) -> Vector<3> {
+    Vector::<3>::new(x, y, z)
+}
+
+/// The vertical quad x = `x` from z = 0 to 1 across y = ±0.5, facing `facing`.
+fn side(x: f64, facing: f64) -> ([Vector<3>; 4], Vector<3>) {
+    (
+        [
+            v(x, -0.5, 0.0),
+            v(x, 0.5, 0.0),
+            v(x, 0.5, 1.0),
+            v(x, -0.5, 1.0),
+        ],
+        v(facing, 0.0, 0.0),
+    )
+}
+
+/// The bed z = 0 from x = 0 to 1 across y = ±0.5, facing up.
+fn bed() -> ([Vector<3>; 4], Vector<3>) {
+    (
+        [
+            v(0.0, -0.5, 0.0),
+            v(1.0, -0.5, 0.0),
+            v(1.0, 0.5, 0.0),
+            v(0.0, 0.5, 0.0),
+        ],
+        v(0.0, 0.0, 1.0),
+    )
+}
+
+/// A channel of width 1 m and height 1 m along the mesh's y (−0.5 to 0.5): bed and two side
+/// walls, their triangles facing the water, open at the top and at both ends.
+fn channel() -> SurfaceMesh {
+    quads("channel", &[bed(), side(0.0, 1.0), side(1.0, -1.0)])
 }
 
 #[test]
@@ -238,4 +243,164 @@ fn a_still_tank_in_a_mesh_channel_holds_the_hydrostatic_pressure() {
     let (average, particles) = run_hydrostatic_scene(scene, dx, depth);
     let (_, fluid) = average.last.plane.as_ref().unwrap();
     check_hydrostatic(fluid, &average.mean(), particles, dx, depth, 1.0);
+}
+
+/// Reads the columns `names` of `diagnostics.csv` in `folder`, averaged over the rows with
+/// time ≥ `from`.
+fn mean_columns(folder: &Path, names: &[&str], from: f64) -> Vec<f64> {
+    let text = std::fs::read_to_string(folder.join("diagnostics.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let index: Vec<usize> = names
+        .iter()
+        .map(|n| {
+            header
+                .iter()
+                .position(|h| h == n)
+                .unwrap_or_else(|| panic!("no {n}"))
+        })
+        .collect();
+    let mut sums = vec![0.0; names.len()];
+    let mut count = 0;
+    for line in lines {
+        let values: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        if values[0] >= from {
+            for (sum, &k) in sums.iter_mut().zip(&index) {
+                *sum += values[k];
+            }
+            count += 1;
+        }
+    }
+    sums.iter().map(|s| s / count as f64).collect()
+}
+
+/// Writes the meshes of the load tests into `folder`: the tank (bed and left side), its
+/// right side as a plate of its own, and a 0.2 m × 0.2 m block 0.1 m above the bed.
+fn load_meshes(folder: &Path) {
+    write_obj(
+        &quads("tank", &[bed(), side(0.0, 1.0)]),
+        &folder.join("tank.obj"),
+    );
+    write_obj(
+        &quads("plate", &[side(1.0, -1.0)]),
+        &folder.join("plate.obj"),
+    );
+    let block = [
+        (
+            [
+                v(0.4, -0.5, 0.1),
+                v(0.6, -0.5, 0.1),
+                v(0.6, 0.5, 0.1),
+                v(0.4, 0.5, 0.1),
+            ],
+            v(0.0, 0.0, -1.0),
+        ),
+        (
+            [
+                v(0.4, -0.5, 0.3),
+                v(0.6, -0.5, 0.3),
+                v(0.6, 0.5, 0.3),
+                v(0.4, 0.5, 0.3),
+            ],
+            v(0.0, 0.0, 1.0),
+        ),
+        (
+            [
+                v(0.4, -0.5, 0.1),
+                v(0.4, 0.5, 0.1),
+                v(0.4, 0.5, 0.3),
+                v(0.4, -0.5, 0.3),
+            ],
+            v(-1.0, 0.0, 0.0),
+        ),
+        (
+            [
+                v(0.6, -0.5, 0.1),
+                v(0.6, 0.5, 0.1),
+                v(0.6, 0.5, 0.3),
+                v(0.6, -0.5, 0.3),
+            ],
+            v(1.0, 0.0, 0.0),
+        ),
+    ];
+    write_obj(&quads("block", &block), &folder.join("block.obj"));
+}
+
+/// Runs a 2D WCSPH scene of 0.6 m of water with `blocks` and `walls` and the load gauges
+/// `loads` to `end_time` into `folder/out`; returns the output folder.
+fn run_loads(folder: &Path, end_time: f64, blocks: &str, walls: &str, loads: &str) -> PathBuf {
+    let mut scene = Scene::from_ron(&format!(
+        "Scene(name: \"loads\", dimension: 2, dx: 0.02, end_time: {end_time},
+            output: (interval: {end_time}, sample_interval: 0.01, vtk: false, loads: [{loads}]),
+            fluid: (blocks: [{blocks}]), walls: [{walls}], solver: Wcsph(()))"
+    ))
+    .unwrap();
+    scene.folder = Some(folder.to_owned());
+    let out = folder.join("out");
+    let options = geosph_runner::RunOptions {
+        out_dir: Some(out.clone()),
+        ..Default::default()
+    };
+    geosph_runner::run(&scene, &options, &mut geosph_runner::NoObserver).unwrap();
+    out
+}
+
+// Issue 23's bar: the hydrostatic force on a face within 2 % of ρ g A h_c. Per metre of
+// width: the plate of 0.6 m of water carries ρ g H²/2 = 1765.8 N along +x, the block
+// ρ g V = 392.4 N up (Archimedes).
+const PLATE: f64 = 1000.0 * 9.81 * 0.6 * 0.6 / 2.0;
+const BUOYANCY: f64 = 1000.0 * 9.81 * 0.2 * 0.2;
+
+#[test]
+fn still_water_loads_a_wall_plate_with_rho_g_h_squared_over_two() {
+    // The 2D still tank (1 m × 0.6 m, dx = 0.02 m, WCSPH, 2 s) whose right side is a plate
+    // of its own; the force averaged over the second second.
+    let folder = scratch("geometry-plate");
+    load_meshes(&folder);
+    let out = run_loads(
+        &folder,
+        2.0,
+        "Box(min: [0.0, 0.0], max: [1.0, 0.6])",
+        "Mesh(file: \"tank.obj\"), Mesh(file: \"plate.obj\")",
+        "(name: \"plate\", wall: 1)",
+    );
+    let [x, y] = mean_columns(&out, &["F_plate_x", "F_plate_y"], 1.0)[..] else {
+        unreachable!()
+    };
+    println!("plate {x:.1} N/m against {PLATE:.1}");
+    assert!((x / PLATE - 1.0).abs() < 0.02, "plate {x} against {PLATE}");
+    assert!(y.abs() < 0.02 * PLATE, "shear {y}");
+    assert!(out.join("loads.png").exists());
+}
+
+#[test]
+fn a_submerged_block_in_hydrostatic_water_carries_its_buoyancy() {
+    // The block held 0.1 m above the bed, the water filled around it by four boxes (their
+    // union), sampled at the hydrostatic start. (Run on, this water does not stay still:
+    // its kinetic energy rises to about 1 J/m within 2 s, speeds 0.3–0.5 m/s; open, see
+    // docs/geometry.md.)
+    let folder = scratch("geometry-block");
+    load_meshes(&folder);
+    let out = run_loads(
+        &folder,
+        0.001,
+        "Box(min: [0.0, 0.0], max: [0.4, 0.6]), Box(min: [0.6, 0.0], max: [1.0, 0.6]),
+         Box(min: [0.4, 0.0], max: [0.6, 0.1]), Box(min: [0.4, 0.3], max: [0.6, 0.6])",
+        "Mesh(file: \"tank.obj\"), Mesh(file: \"plate.obj\"), Mesh(file: \"block.obj\")",
+        "(name: \"plate\", wall: 1), (name: \"block\", wall: 2)",
+    );
+    let [plate, x, y] = mean_columns(&out, &["F_plate_x", "F_block_x", "F_block_y"], 0.0)[..]
+    else {
+        unreachable!()
+    };
+    println!("plate {plate:.1} N/m, block {y:.1} N/m against {BUOYANCY:.1}");
+    assert!(
+        (plate / PLATE - 1.0).abs() < 0.02,
+        "plate {plate} against {PLATE}"
+    );
+    assert!(
+        (y / BUOYANCY - 1.0).abs() < 0.02,
+        "block {y} against {BUOYANCY}"
+    );
+    assert!(x.abs() < 0.02 * BUOYANCY, "block across {x}");
 }

@@ -114,7 +114,7 @@ const CASES: &[(&str, &str, &str)] = &[
     ("3D block in 2D", "min: [0.0, 0.0], max: [0.5 => min: [0.0, 0.0, 0.0], max: [0.5", "`fluid.blocks[0].min`: needs 2 coordinates (the scene's dimension), got 3"),
     ("polygon of two points", "Box(min: [0.0, 0.0], max: [0.5, 1.0]) => Polygon(vertices: [(0.0, 0.0), (1.0, 1.0)])", "`fluid.blocks[0].vertices`: needs at least 3 vertices, got 2"),
     ("polygon with NaN", "Box(min: [0.0, 0.0], max: [0.5, 1.0]) => Polygon(vertices: [(0.0, 0.0), (1.0, NaN), (0.0, 1.0)])", "`fluid.blocks[0].vertices[1]`: coordinates must be finite, got (1, NaN)"),
-    ("polygon smaller than dx", "Box(min: [0.0, 0.0], max: [0.5, 1.0]) => Polygon(vertices: [(0.01, 0.01), (0.02, 0.01), (0.01, 0.02)])", "the blocks hold no particle at dx = 0.1"),
+    ("polygon smaller than dx", "Box(min: [0.0, 0.0], max: [0.5, 1.0]) => Polygon(vertices: [(0.01, 0.01), (0.02, 0.01), (0.01, 0.02)])", "fluid.blocks[0]`: the polygon holds no lattice site at dx = 0.1"),
     ("fluid outside the domain", "walls: [ => domain: (min: [-1.0, -1.0], max: [0.3, 3.0]), walls: [", "`domain`: fluid particle"),
     ("fluid through the tank wall", "max: [0.5, 1.0] => max: [2.5, 1.0]", "lies in or beyond the tank's walls"),
     ("fluid overlapping a wall", "open_top: true)] => open_top: true), Polyline(points: [(0.0, 0.55), (0.5, 0.55)])]", "`walls[1]`: fluid particle"),

@@ -20,8 +20,8 @@ pub enum FlowSide {
 }
 
 /// Number of lattice cells of size `dx` across `length`, tolerant of round-off
-/// (a length of 1.0 with dx = 0.1 gives 10, not 11).
-fn cell_count(length: Real, dx: Real) -> usize {
+/// (a length of 1.0 with dx = 0.1 gives 10, not 11): [`fill_box`] fills this many per axis.
+pub fn cell_count(length: Real, dx: Real) -> usize {
     let cells = length / dx;
     let rounded = cells.round();
     if (cells - rounded).abs() < 1e-6 * cells.max(1.0) {

@@ -26,6 +26,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod lattice;
 mod mesh;
 pub mod primitives;
 mod solid;
@@ -33,4 +34,4 @@ mod surface;
 
 pub use mesh::{MeshError, SurfaceMesh};
 pub use solid::{Section, Solid};
-pub use surface::{WallSite, WallSurface};
+pub use surface::{SurfacePoint, WallSite, WallSurface};

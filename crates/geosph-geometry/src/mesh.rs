@@ -180,6 +180,18 @@ impl SurfaceMesh {
     /// run along it in opposite directions (a closed, manifold, consistently oriented
     /// surface). Vertices at the same position count as one.
     pub fn check_closed(&self) -> Result<(), MeshError> {
+        self.check_edges(true)
+    }
+
+    /// Checks that the mesh is a consistently oriented manifold surface, open or closed: no
+    /// two triangles run along an edge in the same direction (which a flipped triangle or a
+    /// third triangle on an edge makes).
+    pub fn check_oriented(&self) -> Result<(), MeshError> {
+        self.check_edges(false)
+    }
+
+    /// [`Self::check_closed`] if `closed`, else [`Self::check_oriented`].
+    fn check_edges(&self, closed: bool) -> Result<(), MeshError> {
         let canonical = self.merged_vertices();
         // Directed edge (from, to) → the triangles that run along it.
         let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
@@ -206,7 +218,7 @@ impl SurfaceMesh {
                     point(to)
                 )));
             }
-            if twins == 0 {
+            if closed && twins == 0 {
                 return Err(problem(format!(
                     "not closed: the edge from {} to {} of triangle {} has no neighbour \
                      (a closed volume needs every edge shared by two triangles)",
@@ -244,7 +256,7 @@ impl SurfaceMesh {
             .collect()
     }
 
-    /// The mesh's vertices moved by `offset` and scaled by `scale` about the origin.
+    /// The mesh with every vertex x moved to `scale` · x + `offset`.
     pub fn transformed(mut self, scale: Real, offset: &Vector<3>) -> Self {
         for v in &mut self.vertices {
             *v = *v * scale + offset;

@@ -6,6 +6,7 @@ use parry3d_f64::math::Vector as ParryVector;
 use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
+use crate::lattice;
 use crate::mesh::{MeshError, SurfaceMesh};
 
 /// The volume a closed, outward-oriented [`SurfaceMesh`] bounds.
@@ -41,11 +42,15 @@ impl Solid {
     pub fn new(mesh: SurfaceMesh) -> Result<Self, MeshError> {
         let mesh = mesh.into_outward()?;
         let vertices = mesh.vertices.iter().map(to_parry).collect();
-        let shape = TriMesh::with_flags(vertices, mesh.triangles.clone(), TriMeshFlags::ORIENTED)
-            .map_err(|error| MeshError::Topology {
-            name: mesh.name.clone(),
-            problem: error.to_string(),
-        })?;
+        // Merged as `check_closed` merges them: parry's pseudo-normals are per vertex index.
+        let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
+        let shape =
+            TriMesh::with_flags(vertices, mesh.triangles.clone(), flags).map_err(|error| {
+                MeshError::Topology {
+                    name: mesh.name.clone(),
+                    problem: error.to_string(),
+                }
+            })?;
         let volume = mesh.signed_volume();
         Ok(Self {
             mesh,
@@ -72,82 +77,51 @@ impl Solid {
     /// The lattice sites `origin + (k + ½) dx` (k integer per axis) inside the solid.
     pub fn fill(&self, origin: &Vector<3>, dx: Real) -> Vec<Vector<3>> {
         let (lo, hi) = self.mesh.bounds();
-        let range = |k: usize| {
-            let first = ((lo[k] - origin[k]) / dx - 0.5).floor() as i64;
-            let last = ((hi[k] - origin[k]) / dx - 0.5).ceil() as i64;
-            first..=last
-        };
-        let site = |k: usize, i: i64| origin[k] + (i as Real + 0.5) * dx;
-        let mut points = Vec::new();
-        for i in range(0) {
-            for j in range(1) {
-                for l in range(2) {
-                    let x = Vector::<3>::new(site(0, i), site(1, j), site(2, l));
-                    if self.contains(&x) {
-                        points.push(x);
-                    }
-                }
-            }
-        }
-        points
+        lattice::sites(lo.into(), hi.into(), (*origin).into(), dx, 0.0)
+            .map(Vector::<3>::from)
+            .filter(|x| self.contains(x))
+            .collect()
     }
 
     /// The 2D lattice sites `origin + (k + ½) dx` inside the section of the solid by the
-    /// vertical plane through `section`: a 2D point (x, y) is the mesh point
-    /// x · `along` + y · `up` + `section`, with `along` and `up` orthonormal.
+    /// vertical plane `section` (2D point (x, y) = mesh point `section.lift`).
     pub fn fill_section(&self, section: &Section, origin: &Vector<2>, dx: Real) -> Vec<Vector<2>> {
         let (lo, hi) = section.bounds(&self.mesh);
-        let range = |k: usize| {
-            let first = ((lo[k] - origin[k]) / dx - 0.5).floor() as i64;
-            let last = ((hi[k] - origin[k]) / dx - 0.5).ceil() as i64;
-            first..=last
-        };
-        let mut points = Vec::new();
-        for i in range(0) {
-            for j in range(1) {
-                let x = Vector::<2>::new(
-                    origin[0] + (i as Real + 0.5) * dx,
-                    origin[1] + (j as Real + 0.5) * dx,
-                );
-                if self.contains(&section.lift(&x)) {
-                    points.push(x);
-                }
-            }
-        }
-        points
+        lattice::sites(lo.into(), hi.into(), (*origin).into(), dx, 0.0)
+            .map(Vector::<2>::from)
+            .filter(|x| self.contains(&section.lift(x)))
+            .collect()
     }
 
     /// The area of the solid's section in m² (the polygon its triangles cut from the
     /// plane, by the shoelace formula over the cut segments).
     pub fn section_area(&self, section: &Section) -> Real {
-        let normal = section.along.cross(&section.up);
-        let mut area = 0.0;
-        for &[a, b, c] in &self.mesh.triangles {
-            let corners = [a, b, c].map(|v| self.mesh.vertices[v as usize]);
-            let height = corners.map(|x| (x - section.point).dot(&normal));
-            // The segment the plane cuts from the triangle, oriented so that the solid lies
-            // on its left in the plane's (along, up) coordinates.
-            let mut cut = Vec::with_capacity(2);
-            for e in 0..3 {
-                let (p, q) = (e, (e + 1) % 3);
-                if (height[p] > 0.0) != (height[q] > 0.0) {
-                    let s = height[p] / (height[p] - height[q]);
-                    cut.push(corners[p] + (corners[q] - corners[p]) * s);
-                }
-            }
-            if let [p, q] = cut[..] {
-                let [p, q] = [p, q].map(|x| section.project(&x));
-                let face = (corners[1] - corners[0]).cross(&(corners[2] - corners[0]));
-                // The outward normal's in-plane part; the solid is on the other side.
-                let outward = Vector::<2>::new(face.dot(&section.along), face.dot(&section.up));
-                let tangent = q - p;
-                let left = Vector::<2>::new(-tangent[1], tangent[0]);
-                let sign = if left.dot(&outward) < 0.0 { 1.0 } else { -1.0 };
-                area += sign * (p[0] * q[1] - q[0] * p[1]) / 2.0;
-            }
-        }
-        area
+        section
+            .cuts(&self.mesh)
+            .iter()
+            .map(|cut| {
+                let (p, q) = (cut.start, cut.end);
+                // Oriented with the solid on its left (outward normal on its right), a cut
+                // adds its share of the shoelace sum.
+                let left = Vector::<2>::new(p[1] - q[1], q[0] - p[0]);
+                let sign = if left.dot(&cut.facing) < 0.0 {
+                    1.0
+                } else {
+                    -1.0
+                };
+                sign * (p[0] * q[1] - q[0] * p[1]) / 2.0
+            })
+            .sum()
     }
+}
+
+/// The segment a plane cuts from one triangle of a mesh, in the plane's coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Cut {
+    pub start: Vector<2>,
+    pub end: Vector<2>,
+    /// The in-plane part of the triangle's (unnormalised) front-face normal.
+    pub facing: Vector<2>,
 }
 
 /// A vertical plane of a 3D mesh that a 2D scene takes as its x–y plane.
@@ -180,6 +154,34 @@ impl Section {
     pub fn project(&self, x: &Vector<3>) -> Vector<2> {
         let r = x - self.point;
         Vector::<2>::new(r.dot(&self.along), r.dot(&self.up))
+    }
+
+    /// The segments the plane cuts from the triangles of `mesh` (triangles it only touches
+    /// at a vertex or along a shared edge give none or a repeated one).
+    pub(crate) fn cuts(&self, mesh: &SurfaceMesh) -> Vec<Cut> {
+        let normal = self.along.cross(&self.up);
+        let mut cuts = Vec::new();
+        for &[a, b, c] in &mesh.triangles {
+            let corners = [a, b, c].map(|v| mesh.vertices[v as usize]);
+            let height = corners.map(|x| (x - self.point).dot(&normal));
+            let mut ends = Vec::with_capacity(2);
+            for e in 0..3 {
+                let (p, q) = (e, (e + 1) % 3);
+                if (height[p] > 0.0) != (height[q] > 0.0) {
+                    let s = height[p] / (height[p] - height[q]);
+                    ends.push(corners[p] + (corners[q] - corners[p]) * s);
+                }
+            }
+            if let [p, q] = ends[..] {
+                let face = (corners[1] - corners[0]).cross(&(corners[2] - corners[0]));
+                cuts.push(Cut {
+                    start: self.project(&p),
+                    end: self.project(&q),
+                    facing: Vector::<2>::new(face.dot(&self.along), face.dot(&self.up)),
+                });
+            }
+        }
+        cuts
     }
 
     /// The 2D bounding box of the mesh's vertices projected on the plane.

@@ -6,6 +6,7 @@ use geosph_core::{Real, Vector};
 use parry3d_f64::query::PointQueryWithLocation;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
+use crate::lattice;
 use crate::mesh::{MeshError, SurfaceMesh};
 use crate::solid::{Section, to_parry};
 
@@ -19,6 +20,46 @@ pub struct WallSite<const D: usize> {
     pub normal: Vector<D>,
     /// Distance to the surface in m.
     pub depth: Real,
+}
+
+/// A point of a surface quadrature: where, the unit normal of its face towards the flow, and
+/// the area (length in 2D) it stands for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint<const D: usize> {
+    /// Position in m.
+    pub position: Vector<D>,
+    /// Unit normal of the face, pointing into the flow.
+    pub normal: Vector<D>,
+    /// Area in m² (2D: length in m).
+    pub area: Real,
+}
+
+/// The first E components of `x` (zeros beyond N): a point of a concrete dimension as one
+/// of a generic dimension D that equals it.
+fn recast<const N: usize, const E: usize>(x: &Vector<N>) -> Vector<E> {
+    Vector::<E>::from_fn(|k, _| if k < N { x[k] } else { 0.0 })
+}
+
+impl<const N: usize> WallSite<N> {
+    /// The site as one of dimension E (for code generic in the dimension, E = N).
+    pub fn recast<const E: usize>(&self) -> WallSite<E> {
+        WallSite {
+            position: recast(&self.position),
+            normal: recast(&self.normal),
+            depth: self.depth,
+        }
+    }
+}
+
+impl<const N: usize> SurfacePoint<N> {
+    /// The point as one of dimension E (for code generic in the dimension, E = N).
+    pub fn recast<const E: usize>(&self) -> SurfacePoint<E> {
+        SurfacePoint {
+            position: recast(&self.position),
+            normal: recast(&self.normal),
+            area: self.area,
+        }
+    }
 }
 
 /// A triangle mesh whose triangles face the flow (counter-clockwise seen from the flow):
@@ -45,8 +86,10 @@ impl std::fmt::Debug for WallSurface {
 }
 
 impl WallSurface {
-    /// The surface of `mesh` as it is oriented.
+    /// The surface of `mesh` as it is oriented: an error naming the first edge along which two
+    /// triangles run in the same direction (a flipped triangle or a non-manifold edge).
     pub fn new(mesh: SurfaceMesh) -> Result<Self, MeshError> {
+        mesh.check_oriented()?;
         let vertices = mesh.vertices.iter().map(to_parry).collect();
         let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
         let shape =
@@ -87,34 +130,81 @@ impl WallSurface {
         Some((depth, normal))
     }
 
-    /// The lattice sites `origin + (k + ½) dx` behind the surface by less than `thickness`
-    /// (e.g. layers × dx).
-    pub fn wall_sites(&self, origin: &Vector<3>, dx: Real, thickness: Real) -> Vec<WallSite<3>> {
-        let (lo, hi) = self.mesh.bounds();
-        let range = |k: usize| {
-            let first = ((lo[k] - thickness - origin[k]) / dx - 0.5).floor() as i64;
-            let last = ((hi[k] + thickness - origin[k]) / dx - 0.5).ceil() as i64;
-            first..=last
-        };
-        let site = |k: usize, i: i64| origin[k] + (i as Real + 0.5) * dx;
-        let mut sites = Vec::new();
-        for i in range(0) {
-            for j in range(1) {
-                for l in range(2) {
-                    let position = Vector::<3>::new(site(0, i), site(1, j), site(2, l));
-                    if let Some((depth, normal)) = self.behind(&position)
-                        && depth < thickness
-                    {
-                        sites.push(WallSite {
-                            position,
+    /// The midpoint rule on the surface: each triangle split into n² congruent triangles,
+    /// n = ⌈longest edge / `size`⌉, each standing for its area at its centroid. Exact for
+    /// the integral of a field linear on each triangle.
+    pub fn quadrature(&self, size: Real) -> Vec<SurfacePoint<3>> {
+        let mut points = Vec::new();
+        for triangle in &self.mesh.triangles {
+            let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize]);
+            let face = (b - a).cross(&(c - a));
+            let longest = [(b - a).norm(), (c - b).norm(), (a - c).norm()]
+                .into_iter()
+                .fold(0.0, Real::max);
+            let n = (longest / size).ceil().max(1.0) as usize;
+            let area = face.norm() / 2.0 / (n * n) as Real;
+            let normal = face.normalize();
+            let (u, v) = ((b - a) / n as Real, (c - a) / n as Real);
+            for i in 0..n {
+                for j in 0..n - i {
+                    let corner = a + u * i as Real + v * j as Real;
+                    // The upright sub-triangle at (i, j), and the inverted one beside it.
+                    points.push(SurfacePoint {
+                        position: corner + (u + v) / 3.0,
+                        normal,
+                        area,
+                    });
+                    if i + j + 1 < n {
+                        points.push(SurfacePoint {
+                            position: corner + (u + v) * (2.0 / 3.0),
                             normal,
-                            depth,
+                            area,
                         });
                     }
                 }
             }
         }
-        sites
+        points
+    }
+
+    /// The midpoint rule on the surface's section by a plane: each cut segment split into
+    /// ⌈length / `size`⌉ equal pieces, each standing for its length at its midpoint, with the
+    /// in-plane unit normal of its face.
+    pub fn section_quadrature(&self, section: &Section, size: Real) -> Vec<SurfacePoint<2>> {
+        let mut points = Vec::new();
+        for cut in section.cuts(&self.mesh) {
+            let Some(normal) = cut.facing.try_normalize(1e-12) else {
+                continue;
+            };
+            let length = (cut.end - cut.start).norm();
+            let n = (length / size).ceil().max(1.0) as usize;
+            for k in 0..n {
+                let s = (k as Real + 0.5) / n as Real;
+                points.push(SurfacePoint {
+                    position: cut.start + (cut.end - cut.start) * s,
+                    normal,
+                    area: length / n as Real,
+                });
+            }
+        }
+        points
+    }
+
+    /// The lattice sites `origin + (k + ½) dx` behind the surface by less than `thickness`
+    /// (e.g. layers × dx).
+    pub fn wall_sites(&self, origin: &Vector<3>, dx: Real, thickness: Real) -> Vec<WallSite<3>> {
+        let (lo, hi) = self.mesh.bounds();
+        lattice::sites(lo.into(), hi.into(), (*origin).into(), dx, thickness)
+            .filter_map(|x| {
+                let position = Vector::<3>::from(x);
+                let (depth, normal) = self.behind(&position)?;
+                (depth < thickness).then_some(WallSite {
+                    position,
+                    normal,
+                    depth,
+                })
+            })
+            .collect()
     }
 
     /// The 2D lattice sites `origin + (k + ½) dx` of the section plane behind the surface
@@ -129,33 +219,20 @@ impl WallSurface {
         thickness: Real,
     ) -> Vec<WallSite<2>> {
         let (lo, hi) = section.bounds(&self.mesh);
-        let range = |k: usize| {
-            let first = ((lo[k] - thickness - origin[k]) / dx - 0.5).floor() as i64;
-            let last = ((hi[k] + thickness - origin[k]) / dx - 0.5).ceil() as i64;
-            first..=last
-        };
-        let mut sites = Vec::new();
-        for i in range(0) {
-            for j in range(1) {
-                let position = Vector::<2>::new(
-                    origin[0] + (i as Real + 0.5) * dx,
-                    origin[1] + (j as Real + 0.5) * dx,
-                );
-                if let Some((depth, normal)) = self.behind(&section.lift(&position))
-                    && depth < thickness
-                {
-                    let normal = section.project(&(section.point + normal));
-                    if let Some(normal) = normal.try_normalize(1e-12) {
-                        sites.push(WallSite {
-                            position,
-                            normal,
-                            depth,
-                        });
-                    }
-                }
-            }
-        }
-        sites
+        lattice::sites(lo.into(), hi.into(), (*origin).into(), dx, thickness)
+            .filter_map(|x| {
+                let position = Vector::<2>::from(x);
+                let (depth, normal) = self.behind(&section.lift(&position))?;
+                let normal = section
+                    .project(&(section.point + normal))
+                    .try_normalize(1e-12)?;
+                (depth < thickness).then_some(WallSite {
+                    position,
+                    normal,
+                    depth,
+                })
+            })
+            .collect()
     }
 }
 
@@ -227,5 +304,28 @@ mod tests {
         for site in &sites {
             assert_relative_eq!(site.normal.norm(), 1.0, epsilon = 1e-12);
         }
+    }
+
+    #[test]
+    fn quadratures_integrate_area_and_a_linear_pressure_exactly() {
+        let cube = WallSurface::new(cube()).unwrap();
+        let points = cube.quadrature(0.3);
+        let area: Real = points.iter().map(|p| p.area).sum();
+        assert_relative_eq!(area, 6.0, epsilon = 1e-12);
+        // p = 1 − z on the closed cube: −∮ p n dA = (0, 0, 1), the "buoyancy" of the unit
+        // volume in a unit pressure gradient.
+        let force: Vector<3> = points
+            .iter()
+            .map(|p| -p.normal * (1.0 - p.position[2]) * p.area)
+            .sum();
+        assert_relative_eq!(force, Vector::<3>::z(), epsilon = 1e-12);
+        let section = cube.section_quadrature(&Section::at_y(0.5), 0.3);
+        let length: Real = section.iter().map(|p| p.area).sum();
+        assert_relative_eq!(length, 4.0, epsilon = 1e-12);
+        let force: Vector<2> = section
+            .iter()
+            .map(|p| -p.normal * (1.0 - p.position[1]) * p.area)
+            .sum();
+        assert_relative_eq!(force, Vector::<2>::y(), epsilon = 1e-12);
     }
 }

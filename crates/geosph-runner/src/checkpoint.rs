@@ -243,8 +243,13 @@ pub enum CheckpointError {
 }
 
 /// A 64-bit FNV-1a hash of the scene's full description (every setting, overrides included),
-/// stable across runs and platforms.
+/// stable across runs and platforms; the folder relative files are read from is left out, so
+/// a restart may name the scene file by another path.
 pub fn scene_hash(scene: &Scene) -> u64 {
+    let scene = Scene {
+        folder: None,
+        ..scene.clone()
+    };
     format!("{scene:?}")
         .bytes()
         .fold(0xcbf2_9ce4_8422_2325, |hash: u64, byte| {

@@ -15,6 +15,8 @@
 //! - [`observer`]: the [`Observer`] hook through which applications sample their own
 //!   quantities (e.g. a dam-break front) at every sample time.
 //! - [`output`]: the run's output folder: frames, `.pvd`, CSV.
+//! - [`loads`]: force and moment of the fluid's pressure on mesh walls (the scene's
+//!   `output.loads`), extra columns of `diagnostics.csv` and `loads.png`.
 //! - [`probes`]: pressure probes at fixed points (the scene's `output.probes`), extra columns
 //!   `p_<name>` of `diagnostics.csv`.
 //! - [`health`]: the blow-up checks, their bounds and the blow-up report.
@@ -54,6 +56,7 @@ mod error;
 pub mod escape;
 pub mod health;
 pub mod interrupt;
+pub mod loads;
 pub mod observer;
 mod options;
 pub mod output;
@@ -63,6 +66,7 @@ mod run_loop;
 mod summary;
 
 pub use checkpoint::CheckpointEvery;
+pub use loads::WallLoads;
 pub use observer::{NoObserver, Observer, push_records, take_records};
 pub use probes::PressureProbes;
 pub use run::{RunError, RunOptions, Summary, run};

@@ -99,6 +99,37 @@ impl<const D: usize> KernelVisitor<D> for Probe<'_, D> {
 /// `probes.png` in kPa, one line per probe (samples without fluid at the probe left out). The
 /// CSV holds the whole run, a restarted one included, so the plot does too.
 pub fn plot_probes(dir: &Path, columns: &[String]) -> Result<(), Error> {
+    plot_columns(
+        dir,
+        columns,
+        ColumnPlot {
+            file: "probes.png",
+            title: "Pressure probes",
+            y_label: "p (kPa)",
+            scale: 1e-3,
+            prefix: "p_",
+        },
+    )
+}
+
+/// How [`plot_columns`] draws its columns.
+pub(crate) struct ColumnPlot<'a> {
+    pub file: &'a str,
+    pub title: &'a str,
+    pub y_label: &'a str,
+    /// Factor from the CSV's unit to the plot's.
+    pub scale: Real,
+    /// Left out of the columns' names in the legend.
+    pub prefix: &'a str,
+}
+
+/// Plots `columns` of `diagnostics.csv` in `dir` against time into `plot.file`, one line per
+/// column, non-finite samples left out; nothing when there is no column.
+pub(crate) fn plot_columns(
+    dir: &Path,
+    columns: &[String],
+    plot: ColumnPlot<'_>,
+) -> Result<(), Error> {
     if columns.is_empty() {
         return Ok(());
     }
@@ -115,7 +146,7 @@ pub fn plot_probes(dir: &Path, columns: &[String]) -> Result<(), Error> {
         columns.iter().map(|c| index(c)).collect::<Option<Vec<_>>>(),
     ) else {
         return Err(Error::Shape(format!(
-            "{}: no `time` or probe column",
+            "{}: no `time` or plotted column",
             path.display()
         )));
     };
@@ -132,11 +163,14 @@ pub fn plot_probes(dir: &Path, columns: &[String]) -> Result<(), Error> {
             );
             if t.is_finite() && p.is_finite() {
                 series[k].0.push(t);
-                series[k].1.push(1e-3 * p);
+                series[k].1.push(plot.scale * p);
             }
         }
     }
-    let labels: Vec<&str> = columns.iter().map(|c| c.trim_start_matches("p_")).collect();
+    let labels: Vec<&str> = columns
+        .iter()
+        .map(|c| c.trim_start_matches(plot.prefix))
+        .collect();
     let lines: Vec<Series<'_>> = series
         .iter()
         .zip(&labels)
@@ -152,11 +186,11 @@ pub fn plot_probes(dir: &Path, columns: &[String]) -> Result<(), Error> {
         .filter_map(|line| line.x.last().copied())
         .fold(0.0, Real::max);
     line_plot_png(
-        dir.join("probes.png"),
+        dir.join(plot.file),
         &PlotSpec {
-            title: "Pressure probes",
+            title: plot.title,
             x_label: "t (s)",
-            y_label: "p (kPa)",
+            y_label: plot.y_label,
             lines,
             x_range: (end > 0.0).then_some((0.0, end)),
             ..Default::default()

@@ -15,6 +15,7 @@ use crate::error::RunError;
 use crate::escape::{Escapes, Removal};
 use crate::health::report::{BlowUpFiles, BlowUpReport};
 use crate::health::{self, Diagnosis, LimitInputs, Limits};
+use crate::loads::WallLoads;
 use crate::observer::Observer;
 use crate::options::RunOptions;
 use crate::output::RunOutput;
@@ -40,6 +41,7 @@ pub(crate) struct RunLoop<'a, const D: usize> {
     /// The state before the step being taken, refreshed in place every step: allocated once.
     last_good: Particles<D>,
     probes: PressureProbes<D>,
+    loads: WallLoads<D>,
     output: Option<RunOutput>,
     state: Progress,
     limits: Limits<D>,
@@ -70,8 +72,15 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         options: &'a RunOptions,
         observer: &'a mut dyn Observer<D>,
     ) -> Result<Self, RunError> {
-        let setup = geosph_scene::build::<D>(scene)?;
+        let mut setup = geosph_scene::build::<D>(scene)?;
         let blocks = setup.blocks.clone();
+        let loads = WallLoads::new(
+            std::mem::take(&mut setup.loads),
+            setup.kernel,
+            setup.smoothing_length,
+            setup.gravity,
+            &setup.domain,
+        );
         let (mut fluid, solver_inputs) = setup.split();
         let probes = PressureProbes::<D>::new(
             &scene.output.probes,
@@ -97,7 +106,13 @@ impl<'a, const D: usize> RunLoop<'a, D> {
                     source,
                 })?,
         };
-        let output = open_output(scene, options, &*observer, &probes, restart.as_ref())?;
+        let output = open_output(
+            scene,
+            options,
+            &*observer,
+            [probes.columns(), loads.columns()],
+            restart.as_ref(),
+        )?;
         let bar = progress_bar(options, scene.end_time);
         let started = Instant::now();
         let state = restart.unwrap_or_default();
@@ -111,6 +126,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             last_good: fluid.clone(),
             fluid,
             probes,
+            loads,
             output,
             checkpoints: CheckpointClock::new(options.checkpoint_every, state.time),
             state,
@@ -275,7 +291,8 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         }
     }
 
-    /// One row of `diagnostics.csv`: the run's own columns, the observer's and the probes'.
+    /// One row of `diagnostics.csv`: the run's own columns, the observer's, the probes' and the
+    /// load gauges'.
     fn sample(&mut self, time: Real, step: usize, report: &StepReport) -> Result<(), RunError> {
         let fluid = &self.fluid;
         self.row.clear();
@@ -293,6 +310,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         ]);
         self.observer.sample(time, fluid, &mut self.row);
         self.probes.sample(fluid, &mut self.row);
+        self.loads.sample(fluid, &mut self.row);
         if let Some(output) = &mut self.output {
             output.sample(&self.row)?;
         }
@@ -408,6 +426,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             Some(output) => {
                 output.flush()?;
                 crate::probes::plot_probes(output.dir(), self.probes.columns())?;
+                self.loads.plot(output.dir())?;
                 output.frames()
             }
             None => 0,

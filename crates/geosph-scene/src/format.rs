@@ -90,6 +90,10 @@ pub struct OutputSpec {
     /// Pressure probes, sampled with the diagnostics (default none): one column
     /// `p_<name>` (Pa) each in `diagnostics.csv`.
     pub probes: Vec<ProbeSpec>,
+    /// Loads of the fluid on mesh walls, sampled with the diagnostics (default none): the
+    /// columns `F_<name>_x`, `F_<name>_y` (`_z`) in N (2D: N per m of width) and the moment
+    /// `M_<name>` (3D: `M_<name>_x`, `_y`, `_z`) in N m (2D: N m per m) each.
+    pub loads: Vec<LoadSpec>,
 }
 
 impl Default for OutputSpec {
@@ -99,6 +103,7 @@ impl Default for OutputSpec {
             sample_interval: 0.005,
             vtk: true,
             probes: Vec::new(),
+            loads: Vec::new(),
         }
     }
 }
@@ -113,6 +118,21 @@ pub struct ProbeSpec {
     pub name: String,
     /// Where, in m (one coordinate per dimension).
     pub position: Vec<Real>,
+}
+
+/// A load gauge: the force and moment the fluid's pressure exerts on a mesh wall,
+/// F = −∮ p n dA and M = ∮ (x − x_c) × (−p n) dA over the wall's surface (n its normal into
+/// the flow), p interpolated from the fluid at points dx/2 apart on the surface.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// Column name (letters, digits, '-', '_' or '.').
+    pub name: String,
+    /// The index in `walls` of a `Mesh` wall.
+    pub wall: usize,
+    /// The point x_c the moment is taken about (default: the surface's centroid).
+    #[serde(default)]
+    pub about: Option<Vec<Real>>,
 }
 
 /// An explicit domain box.
@@ -268,7 +288,8 @@ pub enum WallSpec {
     /// surface by less than `layers` dx, convex and concave corners included. Placement as
     /// in [`Region::Mesh`]; in 2D the walls of the section plane y = `section`.
     Mesh {
-        /// The mesh file, relative to the scene file's folder.
+        /// The mesh file, relative to the scene file's folder (or the working folder for a
+        /// scene given as text).
         file: String,
         /// Scale factor of the mesh's coordinates (default 1).
         #[serde(default = "default_scale")]

@@ -47,9 +47,9 @@ pub mod setup;
 pub mod validate;
 
 pub use format::{
-    FluidSpec, HealthSpec, InitialVelocity, OutputSpec, ProbeSpec, Region, Scene, SolverSpec,
-    WallSpec,
+    FluidSpec, HealthSpec, InitialVelocity, LoadSpec, OutputSpec, ProbeSpec, Region, Scene,
+    SolverSpec, WallSpec,
 };
 pub use regions::BlockReport;
-pub use setup::{Setup, build};
+pub use setup::{LoadSurface, Setup, build};
 pub use validate::SceneError;

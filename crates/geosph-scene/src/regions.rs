@@ -181,11 +181,15 @@ impl<const D: usize> Shape<D> {
         }
     }
 
-    /// Whether the region holds `x` (a box as the half-open [min, max) its fill covers).
-    fn contains(&self, x: &Vector<D>) -> bool {
+    /// Whether the region holds `x`; a box as the cells its fill covers, [min, min + n dx)
+    /// with n = ⌈(max − min)/dx⌉ per axis (its last row of sites may lie beyond `max`).
+    fn contains(&self, x: &Vector<D>, dx: Real) -> bool {
         let plane = || Vector::<2>::new(x[0], x[1]);
         match self {
-            Self::Box(min, max) => (0..D).all(|k| x[k] >= min[k] && x[k] < max[k]),
+            Self::Box(min, max) => (0..D).all(|k| {
+                let end = min[k] + generate::cell_count(max[k] - min[k], dx) as Real * dx;
+                x[k] >= min[k] && x[k] < end
+            }),
             Self::Polygon(vertices) => generate::polygon_contains(vertices, &plane()),
             Self::Solid(solid) => solid.contains(&Vector::<3>::from_fn(|k, _| x[k])),
             Self::Section(solid, section) => solid.contains(&section.lift(&plane())),
@@ -197,7 +201,9 @@ impl<const D: usize> Shape<D> {
 pub(crate) struct Filled<const D: usize> {
     /// The particles' positions.
     pub position: Vec<Vector<D>>,
-    /// The top of each particle's block (the free surface of the hydrostatic start).
+    /// The free surface above each particle for the hydrostatic start: the top of its
+    /// lattice column (the highest particle within dx/2 horizontally, + dx/2), so stacked
+    /// or side-by-side blocks start from the pressure of the whole column.
     pub surface: Vec<Real>,
     /// How each block was filled.
     pub blocks: Vec<BlockReport>,
@@ -207,11 +213,9 @@ pub(crate) struct Filled<const D: usize> {
 /// again, so overlapping blocks form their union.
 pub(crate) fn fill_blocks<const D: usize>(scene: &Scene) -> Result<Filled<D>, SceneError> {
     let dx = scene.dx;
-    let up = D - 1;
     let blocks = &scene.fluid.as_ref().expect("validated").blocks;
     let mut shapes: Vec<Shape<D>> = Vec::with_capacity(blocks.len());
     let mut position = Vec::new();
-    let mut surface = Vec::new();
     let mut reports = Vec::with_capacity(blocks.len());
     for (index, block) in blocks.iter().enumerate() {
         let field = format!("fluid.blocks[{index}]");
@@ -220,7 +224,7 @@ pub(crate) fn fill_blocks<const D: usize>(scene: &Scene) -> Result<Filled<D>, Sc
         let total = sites.len();
         let points: Vec<Vector<D>> = sites
             .into_iter()
-            .filter(|x| !shapes.iter().any(|earlier| earlier.contains(x)))
+            .filter(|x| !shapes.iter().any(|earlier| earlier.contains(x, dx)))
             .collect();
         if total == 0 {
             return Err(SceneError::Field {
@@ -236,12 +240,6 @@ pub(crate) fn fill_blocks<const D: usize>(scene: &Scene) -> Result<Filled<D>, Sc
                 ),
             });
         }
-        let top = points
-            .iter()
-            .map(|p| p[up])
-            .fold(Real::NEG_INFINITY, Real::max)
-            + 0.5 * dx;
-        surface.extend(std::iter::repeat_n(top, points.len()));
         reports.push(BlockReport {
             name: shape.name(),
             particles: points.len(),
@@ -252,9 +250,35 @@ pub(crate) fn fill_blocks<const D: usize>(scene: &Scene) -> Result<Filled<D>, Sc
         position.extend(points);
         shapes.push(shape);
     }
+    let surface = column_tops(&position, dx);
     Ok(Filled {
         position,
         surface,
         blocks: reports,
     })
+}
+
+/// For each particle, the highest particle's height + dx/2 among those within dx/2 of it
+/// horizontally (its lattice column; the last axis is up).
+fn column_tops<const D: usize>(position: &[Vector<D>], dx: Real) -> Vec<Real> {
+    use std::collections::HashMap;
+    let up = D - 1;
+    let column = |x: &Vector<D>| -> [i64; 2] {
+        std::array::from_fn(|k| {
+            if k < up {
+                (x[k] / dx).round() as i64
+            } else {
+                0
+            }
+        })
+    };
+    let mut tops: HashMap<[i64; 2], Real> = HashMap::new();
+    for x in position {
+        let top = tops.entry(column(x)).or_insert(Real::NEG_INFINITY);
+        *top = top.max(x[up]);
+    }
+    position
+        .iter()
+        .map(|x| tops[&column(x)] + 0.5 * dx)
+        .collect()
 }

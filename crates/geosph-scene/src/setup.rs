@@ -7,10 +7,11 @@ use geosph_sph::EquationOfState;
 use geosph_sph::SphSetup;
 
 use crate::error::SceneError;
-use crate::format::{Scene, WallSpec};
+use crate::format::{LoadSpec, Scene, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity, vector};
 use crate::regions::{BlockReport, Filled, check_size, fill_blocks, read_mesh};
-use geosph_geometry::{Section, WallSurface};
+use crate::validate::MAX_PARTICLES;
+use geosph_geometry::{Section, SurfacePoint, WallSite, WallSurface};
 
 /// What a solver is built from: the scene turned into particles and numbers.
 #[derive(Clone, Debug)]
@@ -37,6 +38,19 @@ pub struct Setup<const D: usize> {
     pub spacing: Real,
     /// How each fluid block was filled.
     pub blocks: Vec<BlockReport>,
+    /// The surfaces of the scene's load gauges (`output.loads`), in their order.
+    pub loads: Vec<LoadSurface<D>>,
+}
+
+/// The surface a load gauge integrates the fluid's pressure over.
+#[derive(Clone, Debug)]
+pub struct LoadSurface<const D: usize> {
+    /// The gauge's name.
+    pub name: String,
+    /// Quadrature points on the wall's surface, dx/2 apart, normals into the flow.
+    pub points: Vec<SurfacePoint<D>>,
+    /// The point moments are taken about.
+    pub about: Vector<D>,
 }
 
 impl<const D: usize> Setup<D> {
@@ -149,7 +163,8 @@ fn mesh_walls<const D: usize>(
     (file, scale, offset, section): (&str, Real, &[Real], Real),
     layers: usize,
     rest_density: Real,
-) -> Result<WallParticles<D>, SceneError> {
+    earlier: &[Vector<D>],
+) -> Result<(WallParticles<D>, WallSurface), SceneError> {
     let fail = |message: String| SceneError::Field {
         field: field.to_owned(),
         message,
@@ -159,26 +174,28 @@ fn mesh_walls<const D: usize>(
     let mesh = read_mesh::<D>(file, scale, offset, scene.folder.as_deref()).map_err(fail)?;
     check_size::<D>(&mesh, dx, thickness).map_err(fail)?;
     let surface = WallSurface::new(mesh).map_err(|error| fail(error.to_string()))?;
-    let (position, normal, depth): (Vec<Vector<D>>, Vec<Vector<D>>, Vec<Real>) = if D == 2 {
-        let sites = surface.wall_sites_in_section(
-            &Section::at_y(section),
-            &Vector::<2>::zeros(),
-            dx,
-            thickness,
-        );
-        let lift = |x: Vector<2>| Vector::<D>::from_fn(|k, _| x[k]);
-        sites
-            .into_iter()
-            .map(|s| (lift(s.position), lift(s.normal), s.depth))
-            .collect()
+    let sites: Vec<WallSite<D>> = if D == 2 {
+        let section = Section::at_y(section);
+        let sites = surface.wall_sites_in_section(&section, &Vector::<2>::zeros(), dx, thickness);
+        sites.iter().map(WallSite::recast).collect()
     } else {
         let sites = surface.wall_sites(&Vector::<3>::zeros(), dx, thickness);
-        let lift = |x: Vector<3>| Vector::<D>::from_fn(|k, _| x[k]);
-        sites
-            .into_iter()
-            .map(|s| (lift(s.position), lift(s.normal), s.depth))
-            .collect()
+        sites.iter().map(WallSite::recast).collect()
     };
+    // A site an earlier wall holds (where a barrier mesh meets a terrain mesh) is not
+    // filled twice.
+    let key =
+        |x: &Vector<D>| -> [i64; D] { std::array::from_fn(|k| (x[k] / dx - 0.5).round() as i64) };
+    let taken: std::collections::HashSet<[i64; D]> = earlier
+        .iter()
+        .filter(|x| (0..D).all(|k| ((x[k] / dx - 0.5) - (x[k] / dx - 0.5).round()).abs() < 1e-6))
+        .map(key)
+        .collect();
+    let (position, normal, depth): (Vec<Vector<D>>, Vec<Vector<D>>, Vec<Real>) = sites
+        .into_iter()
+        .filter(|site| !taken.contains(&key(&site.position)))
+        .map(|site| (site.position, site.normal, site.depth))
+        .collect();
     if position.is_empty() {
         return Err(fail(format!(
             "the mesh `{}` has no lattice site behind it at dx = {dx}{}",
@@ -190,13 +207,40 @@ fn mesh_walls<const D: usize>(
             }
         )));
     }
-    Ok(WallParticles::fixed(
-        position,
-        normal,
-        depth,
-        dx.powi(D as i32),
-        rest_density,
-    ))
+    let particles = WallParticles::fixed(position, normal, depth, dx.powi(D as i32), rest_density);
+    Ok((particles, surface))
+}
+
+/// The quadrature of a load gauge on `surface`, points dx/2 apart.
+fn load_surface<const D: usize>(
+    spec: &LoadSpec,
+    surface: &WallSurface,
+    section: Real,
+    dx: Real,
+) -> LoadSurface<D> {
+    let points: Vec<SurfacePoint<D>> = if D == 2 {
+        let points = surface.section_quadrature(&Section::at_y(section), 0.5 * dx);
+        points.iter().map(SurfacePoint::recast).collect()
+    } else {
+        let points = surface.quadrature(0.5 * dx);
+        points.iter().map(SurfacePoint::recast).collect()
+    };
+    let area: Real = points.iter().map(|p| p.area).sum();
+    let about = match &spec.about {
+        Some(about) => vector::<D>(about),
+        None => {
+            points
+                .iter()
+                .map(|p| p.position * p.area)
+                .sum::<Vector<D>>()
+                / area
+        }
+    };
+    LoadSurface {
+        name: spec.name.clone(),
+        points,
+        about,
+    }
 }
 
 /// Builds the particles and solver inputs of a validated `scene` in `D` dimensions.
@@ -227,12 +271,6 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     } = fill_blocks::<D>(scene)?;
     if fluid_spec.jitter > 0.0 {
         jitter(&mut position, fluid_spec.jitter * dx);
-    }
-    if position.is_empty() {
-        return Err(SceneError::Field {
-            field: "fluid.blocks".into(),
-            message: format!("the blocks hold no particle at dx = {dx}; make them larger than dx"),
-        });
     }
     let bottom = position
         .iter()
@@ -297,6 +335,8 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     set_velocity(&mut fluid, &fluid_spec.velocity, &eos);
 
     let mut walls = WallParticles::default();
+    // The load gauges' surfaces with their index in `output.loads`.
+    let mut loads = Vec::new();
     // The first wall particle of each wall, to name the wall a fluid particle overlaps.
     let mut wall_starts = Vec::with_capacity(scene.walls.len());
     for (index, wall) in scene.walls.iter().enumerate() {
@@ -359,16 +399,36 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                 offset,
                 section,
                 layers,
-            } => walls.extend(mesh_walls::<D>(
-                scene,
-                &format!("walls[{index}]"),
-                (file, *scale, offset, *section),
-                *layers,
-                rest_density,
-            )?),
+            } => {
+                let (particles, surface) = mesh_walls::<D>(
+                    scene,
+                    &format!("walls[{index}]"),
+                    (file, *scale, offset, *section),
+                    *layers,
+                    rest_density,
+                    &walls.position,
+                )?;
+                walls.extend(particles);
+                for (k, spec) in scene.output.loads.iter().enumerate() {
+                    if spec.wall == index {
+                        loads.push((k, load_surface::<D>(spec, &surface, *section, dx)));
+                    }
+                }
+            }
         }
     }
 
+    // Meshes count once read: the scene's estimate could not bound them.
+    let particles = fluid.len() + walls.len();
+    if particles as Real > MAX_PARTICLES {
+        return Err(SceneError::Field {
+            field: "dx".into(),
+            message: format!(
+                "{dx} m makes {particles} particles with the meshes, more than \
+                 {MAX_PARTICLES:.0e}: increase dx or shrink the regions"
+            ),
+        });
+    }
     if let Some((i, j, distance)) = overlap(&fluid.position, &walls.position, 0.5 * dx) {
         let wall = wall_starts.partition_point(|&start| start <= j) - 1;
         return Err(SceneError::Field {
@@ -439,5 +499,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         fluid_height,
         spacing: dx,
         blocks,
+        loads: {
+            loads.sort_by_key(|(k, _)| *k);
+            loads.into_iter().map(|(_, surface)| surface).collect()
+        },
     })
 }

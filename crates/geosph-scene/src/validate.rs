@@ -120,10 +120,10 @@ fn mesh_placement(
     if !offset.is_empty() {
         point(&format!("{field}.offset"), offset, dimension)?;
     }
-    if !section.is_finite() {
+    if !section.is_finite() || (dimension == 3 && section != 0.0) {
         return Err(fail(
             format!("{field}.section"),
-            format!("must be finite, got {section}"),
+            format!("is the section plane of a 2D scene: finite there, unset in 3D; got {section}"),
         ));
     }
     Ok(())
@@ -184,6 +184,52 @@ impl Scene {
         Ok(())
     }
 
+    /// Load gauges: names as for probes, each on a `Mesh` wall, a fluid that carries
+    /// pressure.
+    fn validate_loads(&self, dimension: usize) -> Result<(), SceneError> {
+        let loads = &self.output.loads;
+        if !loads.is_empty() && matches!(self.solver, SolverSpec::Soil(_)) {
+            return Err(fail(
+                "output.loads",
+                "load gauges integrate the fluid's pressure and need a fluid solver \
+                 (wcsph, pcisph, iisph or dfsph)",
+            ));
+        }
+        for (k, load) in loads.iter().enumerate() {
+            let field = format!("output.loads[{k}]");
+            if !plain_name(&load.name) {
+                return Err(fail(
+                    format!("{field}.name"),
+                    format!(
+                        "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.', \
+                         as it names CSV columns; got {:?}",
+                        load.name
+                    ),
+                ));
+            }
+            if loads[..k].iter().any(|other| other.name == load.name) {
+                return Err(fail(
+                    format!("{field}.name"),
+                    format!("must be unique, {:?} is used twice", load.name),
+                ));
+            }
+            if !matches!(self.walls.get(load.wall), Some(WallSpec::Mesh { .. })) {
+                return Err(fail(
+                    format!("{field}.wall"),
+                    format!(
+                        "must be the index of a Mesh wall in `walls` (0 to {}), got {}",
+                        self.walls.len().saturating_sub(1),
+                        load.wall
+                    ),
+                ));
+            }
+            if let Some(about) = &load.about {
+                point(&format!("{field}.about"), about, dimension)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Checks every value against its allowed range; the first violation is returned with the
     /// field's path, the allowed range and the value.
     pub fn validate(&self) -> Result<(), SceneError> {
@@ -235,6 +281,7 @@ impl Scene {
             }
         }
         self.validate_probes(dimension)?;
+        self.validate_loads(dimension)?;
         if let Some(domain) = &self.domain {
             boxed("domain", &domain.min, &domain.max, dimension)?;
             if !domain.periodic.is_empty() && domain.periodic.len() != dimension {

@@ -287,7 +287,7 @@ impl Bicgstab {
             }
         }
 
-        // Mean predicted error over ρ₀, from the last residual.
+        // Mean predicted error over ρ₀, from the kept residual.
         report.error =
             work.residual.iter().map(|r| r.abs()).sum::<Real>() / (n.max(1) as Real) / rho0;
         pressure
@@ -424,7 +424,7 @@ impl Bicgstab {
                 break;
             }
         }
-        if r_norm > best_norm {
+        if r_norm.is_nan() || r_norm > best_norm {
             x.copy_from_slice(best_unknown);
             r.copy_from_slice(best_residual);
         }

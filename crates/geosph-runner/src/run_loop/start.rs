@@ -13,7 +13,6 @@ use crate::error::RunError;
 use crate::observer::Observer;
 use crate::options::RunOptions;
 use crate::output::RunOutput;
-use crate::probes::PressureProbes;
 
 /// The solver the scene declares, and nothing it does not.
 pub(super) fn build_solver<const D: usize>(
@@ -71,7 +70,7 @@ pub(super) fn open_output<const D: usize>(
     scene: &Scene,
     options: &RunOptions,
     observer: &dyn Observer<D>,
-    probes: &PressureProbes<D>,
+    gauges: [&[String]; 2],
     restart: Option<&Progress>,
 ) -> Result<Option<RunOutput>, RunError> {
     let Some(dir) = &options.out_dir else {
@@ -79,7 +78,7 @@ pub(super) fn open_output<const D: usize>(
     };
     let vtk = options.vtk.unwrap_or(scene.output.vtk);
     let mut columns = observer.columns();
-    columns.extend(probes.columns().iter().map(String::as_str));
+    columns.extend(gauges.iter().flat_map(|c| c.iter()).map(String::as_str));
     Ok(Some(match restart {
         None => RunOutput::create(dir, &scene.name, vtk, &columns)?,
         Some(progress) => RunOutput::resume(
