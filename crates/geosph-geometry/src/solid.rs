@@ -36,21 +36,26 @@ pub(crate) fn to_parry(x: &Vector<3>) -> ParryVector {
     ParryVector::new(x[0], x[1], x[2])
 }
 
+/// parry's mesh of `mesh` with the pseudo-normals of its side tests, duplicate vertices
+/// merged as [`SurfaceMesh::check_closed`] merges them (the pseudo-normals are per vertex
+/// index, so an unmerged seam would read as an open edge).
+pub(crate) fn oriented_trimesh(mesh: &SurfaceMesh) -> Result<TriMesh, MeshError> {
+    let vertices = mesh.vertices.iter().map(to_parry).collect();
+    let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
+    TriMesh::with_flags(vertices, mesh.triangles.clone(), flags).map_err(|error| {
+        MeshError::Topology {
+            name: mesh.name.clone(),
+            problem: error.to_string(),
+        }
+    })
+}
+
 impl Solid {
     /// The solid bounded by `mesh`: an error naming the mesh and the first bad edge if it is
     /// not closed, manifold and consistently oriented; inward-facing meshes are turned.
     pub fn new(mesh: SurfaceMesh) -> Result<Self, MeshError> {
         let mesh = mesh.into_outward()?;
-        let vertices = mesh.vertices.iter().map(to_parry).collect();
-        // Merged as `check_closed` merges them: parry's pseudo-normals are per vertex index.
-        let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
-        let shape =
-            TriMesh::with_flags(vertices, mesh.triangles.clone(), flags).map_err(|error| {
-                MeshError::Topology {
-                    name: mesh.name.clone(),
-                    problem: error.to_string(),
-                }
-            })?;
+        let shape = oriented_trimesh(&mesh)?;
         let volume = mesh.signed_volume();
         Ok(Self {
             mesh,

@@ -4,11 +4,11 @@
 
 use geosph_core::{Real, Vector};
 use parry3d_f64::query::PointQueryWithLocation;
-use parry3d_f64::shape::{TriMesh, TriMeshFlags};
+use parry3d_f64::shape::TriMesh;
 
 use crate::lattice;
 use crate::mesh::{MeshError, SurfaceMesh};
-use crate::solid::{Section, to_parry};
+use crate::solid::{Section, oriented_trimesh, to_parry};
 
 /// A wall site: its position, the unit normal from it towards the flow (to the nearest
 /// point of the surface) and its depth behind the surface.
@@ -90,15 +90,7 @@ impl WallSurface {
     /// triangles run in the same direction (a flipped triangle or a non-manifold edge).
     pub fn new(mesh: SurfaceMesh) -> Result<Self, MeshError> {
         mesh.check_oriented()?;
-        let vertices = mesh.vertices.iter().map(to_parry).collect();
-        let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
-        let shape =
-            TriMesh::with_flags(vertices, mesh.triangles.clone(), flags).map_err(|error| {
-                MeshError::Topology {
-                    name: mesh.name.clone(),
-                    problem: error.to_string(),
-                }
-            })?;
+        let shape = oriented_trimesh(&mesh)?;
         Ok(Self { mesh, shape })
     }
 
