@@ -364,10 +364,11 @@ fn still_water_loads_a_wall_plate_with_rho_g_h_squared_over_two() {
         "Mesh(file: \"tank.obj\"), Mesh(file: \"plate.obj\")",
         "(name: \"plate\", wall: 1)",
     );
-    let [x, y] = mean_columns(&out, &["F_plate_x", "F_plate_y"], 1.0)[..] else {
+    let [x, y, energy] = mean_columns(&out, &["F_plate_x", "F_plate_y", "kinetic_energy"], 1.0)[..]
+    else {
         unreachable!()
     };
-    println!("plate {x:.1} N/m against {PLATE:.1}");
+    println!("plate {x:.1} N/m against {PLATE:.1}, kinetic energy {energy:.2e} J/m");
     assert!((x / PLATE - 1.0).abs() < 0.02, "plate {x} against {PLATE}");
     assert!(y.abs() < 0.02 * PLATE, "shear {y}");
     assert!(out.join("loads.png").exists());
@@ -376,24 +377,27 @@ fn still_water_loads_a_wall_plate_with_rho_g_h_squared_over_two() {
 #[test]
 fn a_submerged_block_in_hydrostatic_water_carries_its_buoyancy() {
     // The block held 0.1 m above the bed, the water filled around it by four boxes (their
-    // union), sampled at the hydrostatic start. (Run on, this water does not stay still:
-    // its kinetic energy rises to about 1 J/m within 2 s, speeds 0.3–0.5 m/s; open, see
-    // docs/geometry.md.)
+    // union); 2 s of WCSPH, the loads averaged over the second second as the plate's.
     let folder = scratch("geometry-block");
     load_meshes(&folder);
     let out = run_loads(
         &folder,
-        0.001,
+        2.0,
         "Box(min: [0.0, 0.0], max: [0.4, 0.6]), Box(min: [0.6, 0.0], max: [1.0, 0.6]),
          Box(min: [0.4, 0.0], max: [0.6, 0.1]), Box(min: [0.4, 0.3], max: [0.6, 0.6])",
         "Mesh(file: \"tank.obj\"), Mesh(file: \"plate.obj\"), Mesh(file: \"block.obj\")",
         "(name: \"plate\", wall: 1), (name: \"block\", wall: 2)",
     );
-    let [plate, x, y] = mean_columns(&out, &["F_plate_x", "F_block_x", "F_block_y"], 0.0)[..]
-    else {
+    let [plate, x, y, energy] = mean_columns(
+        &out,
+        &["F_plate_x", "F_block_x", "F_block_y", "kinetic_energy"],
+        1.0,
+    )[..] else {
         unreachable!()
     };
-    println!("plate {plate:.1} N/m, block {y:.1} N/m against {BUOYANCY:.1}");
+    println!(
+        "plate {plate:.1} N/m, block {y:.1} N/m against {BUOYANCY:.1}, kinetic energy {energy:.2e} J/m"
+    );
     assert!(
         (plate / PLATE - 1.0).abs() < 0.02,
         "plate {plate} against {PLATE}"

@@ -128,6 +128,9 @@ fn main() -> ExitCode {
             if !scene.output.probes.is_empty() {
                 files.push("probes.png");
             }
+            if !scene.output.loads.is_empty() {
+                files.push("loads.png");
+            }
             if report.wall_pressure.is_some() {
                 files.push("wall-pressure.png");
             }

@@ -16,11 +16,19 @@ use crate::PairLists;
 /// (the pressure solvers carry no suction at a free surface), or one drawn in by a slightly
 /// negative pressure next to the wall (WCSPH), can drift through the surface. The surface near
 /// particle i is that of its nearest wall particle w, the plane through x_w + d_w n_w with the
-/// inward normal n_w and the depth d_w of [`WallParticles`]; the particle is behind it when
+/// inward normal n_w and the depth d_w of [`WallParticles`]. With r = x_i − x_w, the particle
+/// is behind it when
 ///
-/// φ_i = (x_i − x_w)·n_w − d_w < 0,
+/// φ_i = r·n_w − d_w < 0  and  |r − (r·n_w) n_w| < d_w,
 ///
-/// and then x_i ← x_i − φ_i n_w and v_i ← v_i − min((v_i − u_w)·n_w, 0) n_w (an inelastic
+/// that is, inside the half-cylinder of radius d_w behind the surface point. The second
+/// condition keeps the test true to a convex corner (an obstacle's): a wall particle on the
+/// corner's diagonal is as near to two faces and carries the normal of one, whose plane runs on
+/// past the corner; the fluid beside the corner is farther than d_w from its axis. The ball of
+/// radius d_w about x_w lies in the wall (d_w is its distance to the surface), and the
+/// half-cylinder does too at corners of 90° or sharper.
+///
+/// Then x_i ← x_i − φ_i n_w and v_i ← v_i − min((v_i − u_w)·n_w, 0) n_w (an inelastic
 /// contact, as the collision handling of particle fluids: Ihmsen et al. 2014, Eurographics
 /// STAR). A run whose walls hold by pressure never reaches it: the runner reports the
 /// count, so that a run where it acts is known (`docs/fluid.md`, "Walls that hold").
@@ -48,7 +56,13 @@ pub fn keep_out_of_walls<const D: usize, K: Kernel<D>>(
             lists.for_each_wall_at(kernel, x, i, &walls.position, |pair| {
                 let w = pair.index;
                 if nearest.is_none_or(|(r2, _, _)| pair.r2 < r2) {
-                    let behind = pair.r_ij.dot(&walls.normal[w]) - walls.depth[w];
+                    let (depth, along) = (walls.depth[w], pair.r_ij.dot(&walls.normal[w]));
+                    let across = pair.r2 - along * along;
+                    let behind = if across < depth * depth {
+                        along - depth
+                    } else {
+                        0.0
+                    };
                     nearest = Some((pair.r2, w, behind));
                 }
             });
@@ -109,5 +123,53 @@ mod tests {
         approx::assert_abs_diff_eq!(velocity[0], Vector::<2>::new(0.0, 1.0), epsilon = 1e-15);
         assert_eq!(velocity[1], Vector::<2>::new(-1.0, 0.0));
         assert_eq!(position[2], Vector::<2>::new(0.5, 0.5));
+    }
+
+    #[test]
+    fn fluid_beside_an_obstacle_corner_stays_and_fluid_inside_it_is_put_back() {
+        // An obstacle [0, 0.5)², three layers of wall particles inside it, each with the
+        // normal to its nearest face; on the diagonal the tie goes to the x faces, so the
+        // corner particle (0.45, 0.45) carries n = +x and the plane x = 0.5 runs on above
+        // the top face y = 0.5.
+        let (dx, side) = (0.1, 0.5);
+        let mut position = Vec::new();
+        let mut normal = Vec::new();
+        let mut depth = Vec::new();
+        for i in 0..5 {
+            for j in 0..5 {
+                let x = Vector::<2>::new((i as Real + 0.5) * dx, (j as Real + 0.5) * dx);
+                let faces = [
+                    (x[0], Vector::<2>::new(-1.0, 0.0)),
+                    (side - x[0], Vector::<2>::new(1.0, 0.0)),
+                    (x[1], Vector::<2>::new(0.0, -1.0)),
+                    (side - x[1], Vector::<2>::new(0.0, 1.0)),
+                ];
+                let (d, n) =
+                    faces.into_iter().fold(
+                        faces[0],
+                        |best, face| if face.0 < best.0 { face } else { best },
+                    );
+                if d < 3.0 * dx {
+                    position.push(x);
+                    normal.push(n);
+                    depth.push(d);
+                }
+            }
+        }
+        let walls = WallParticles::fixed(position, normal, depth, dx * dx, 1000.0);
+        let kernel = WendlandC2::<2>::new(1.3 * dx);
+        let domain = Domain::new(Vector::<2>::repeat(-0.5), Vector::<2>::repeat(1.0)).unwrap();
+        // Above the top face beside the corner (a nearest-plane test would move it to
+        // x = 0.5), and inside the obstacle behind the right face near the corner.
+        let mut position = vec![Vector::<2>::new(0.45, 0.52), Vector::<2>::new(0.48, 0.46)];
+        let mut velocity = vec![Vector::<2>::new(0.0, -1.0), Vector::<2>::new(-1.0, 0.0)];
+        let mut lists =
+            PairLists::new(domain, kernel.support_radius(), 0.1, &walls.position, false).unwrap();
+        lists.update(&mut position, &walls.position).unwrap();
+        let moved = keep_out_of_walls(&lists, &kernel, &walls, &mut position, &mut velocity);
+        assert_eq!(moved, 1);
+        assert_eq!(position[0], Vector::<2>::new(0.45, 0.52));
+        approx::assert_abs_diff_eq!(position[1], Vector::<2>::new(0.5, 0.46), epsilon = 1e-15);
+        assert_eq!(velocity[1], Vector::<2>::new(0.0, 0.0));
     }
 }
