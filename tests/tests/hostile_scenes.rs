@@ -107,6 +107,8 @@ const CASES: &[(&str, &str, &str)] = &[
     ("probe name with a comma", "vtk: true), => vtk: true, probes: [(name: \"a,b\", position: [0.2, 0.1])]),", "`output.probes[0].name`: must be 1 to 100 letters"),
     ("probe names repeated", "vtk: true), => vtk: true, probes: [(name: \"p\", position: [0.2, 0.1]), (name: \"p\", position: [0.3, 0.1])]),", "`output.probes[1].name`: must be unique, \"p\" is used twice"),
     ("probe without a position", "vtk: true), => vtk: true, probes: [(name: \"p\")]),", "position"),
+    ("free surface in 2D", "vtk: true), => vtk: true, surface: Some(())),", "`output.surface`: free-surface meshes are drawn for 3D scenes"),
+    ("misspelt surface field", "vtk: true), => vtk: true, surface: Some((treshold: 0.5))),", "treshold"),
     // Geometry.
     ("empty scene: no fluid", "fluid: (density: 1000.0, blocks: [Box(min: [0.0, 0.0], max: [0.5, 1.0])], hydrostatic: true), => ", "`fluid`: the scene has no fluid"),
     ("no fluid blocks", "blocks: [Box(min: [0.0, 0.0], max: [0.5, 1.0])] => blocks: []", "`fluid.blocks`: needs at least one region, got none"),

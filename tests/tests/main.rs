@@ -14,5 +14,6 @@ mod neighbours;
 mod output_integrity;
 mod soil_element;
 mod soil_sph;
+mod surface;
 mod wall_pressure;
 mod wcsph;

@@ -122,6 +122,10 @@ fn main() -> ExitCode {
                 println!("{wall_pressure}");
             }
             let mut files = Vec::new();
+            let surface = format!("{}-surface.pvd", scene.name);
+            if scene.output.surface.is_some() && options.vtk.unwrap_or(scene.output.vtk) {
+                files.push(surface.as_str());
+            }
             if !report.samples.is_empty() {
                 files.push("front.png, height.png, front.csv");
             }

@@ -9,6 +9,8 @@
 //!   primitive every other module uses.
 //! - [`vtu`]: one particle frame (positions and per-particle fields, one or several particle
 //!   sets) as a compressed binary VTK XML UnstructuredGrid (`.vtu`) of vertex cells.
+//! - [`vtp`]: a triangle surface (a free surface, a mesh) as a compressed binary VTK XML
+//!   PolyData (`.vtp`).
 //! - [`pvd`]: [`PvdCollection`], the VTK Collection (`.pvd`) that lists the `.vtu` frames of a
 //!   run with their times, rewritten after every frame and reopened on restart.
 //! - [`csv`]: [`CsvSeries`], a time-series CSV writer flushed row by row, and
@@ -50,6 +52,7 @@ pub mod csv;
 pub mod plot;
 pub mod pvd;
 pub mod reference;
+pub mod vtp;
 pub mod vtu;
 
 mod error;
@@ -60,6 +63,7 @@ pub use error::Error;
 pub use plot::{Axes, PlotSpec, Series, line_plot_png};
 pub use pvd::{PvdCollection, PvdEntry};
 pub use reference::{ReferenceCurve, interpolate};
+pub use vtp::write_vtp_triangles;
 pub use vtu::{Field, FieldData, Frame, write_vtu, write_vtu_sets};
 
 #[cfg(test)]

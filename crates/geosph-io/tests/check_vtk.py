@@ -5,7 +5,9 @@ Usage: python3 check_vtk.py FOLDER   (needs `pip install vtk`)
 
 For every `.vtu` under FOLDER: vtkXMLUnstructuredGridReader must read it without errors, with
 as many points as the file declares, one vertex cell per point, and every point array with one
-tuple per point and 1, 3 or 9 components. For every `.pvd`: VTK's vtkXMLDataParser and Python's
+tuple per point and 1, 3 or 9 components. For every `.vtp` (surfaces): vtkXMLPolyDataReader
+must read it without errors, with the declared points and triangles only, and the surface must
+be watertight (vtkFeatureEdges finds no boundary and no non-manifold edge). For every `.pvd`: VTK's vtkXMLDataParser and Python's
 xml.etree must parse it, it must be a `Collection` whose DataSets have numeric, non-decreasing
 timesteps and existing files. Prints one line per file; exits with status 1 on any failure.
 
@@ -86,6 +88,41 @@ def check_vtu(path):
     return problems
 
 
+def check_vtp(path):
+    """Returns a list of problems with the .vtp surface at `path` (empty when fine)."""
+    try:
+        declared, _ = declared_layout(path)
+    except (ElementTree.ParseError, ValueError) as error:
+        return [f"not the expected XML: {error}"]
+    reader = vtk.vtkXMLPolyDataReader()
+    errors = catch_errors(reader)
+    reader.SetFileName(str(path))
+    reader.Update()
+    problems = [f"VTK error: {m.strip()}" for m in errors]
+    surface = reader.GetOutput()
+    points, cells = surface.GetNumberOfPoints(), surface.GetNumberOfPolys()
+    if points != declared:
+        problems.append(f"{points} points read, {declared} declared")
+    if surface.GetNumberOfCells() != cells:
+        problems.append(f"{surface.GetNumberOfCells() - cells} cells that are not polygons")
+    for i in range(cells):
+        if surface.GetCell(i).GetNumberOfPoints() != 3:
+            problems.append(f"cell {i} is not a triangle")
+            break
+    edges = vtk.vtkFeatureEdges()
+    edges.SetInputData(surface)
+    edges.BoundaryEdgesOn()
+    edges.NonManifoldEdgesOn()
+    edges.FeatureEdgesOff()
+    edges.ManifoldEdgesOff()
+    edges.Update()
+    open_edges = edges.GetOutput().GetNumberOfLines()
+    if open_edges:
+        problems.append(f"not watertight: {open_edges} boundary or non-manifold edges")
+    print(f"  {path.name}: {points} points, {cells} triangles, watertight: {open_edges == 0}")
+    return problems
+
+
 def check_pvd(path):
     """Returns a list of problems with the .pvd at `path` (empty when fine)."""
     problems = []
@@ -116,14 +153,16 @@ def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     folder = Path(sys.argv[1])
-    files = sorted(folder.rglob("*.vtu")) + sorted(folder.rglob("*.pvd"))
+    files = sorted(folder.rglob("*.vtu")) + sorted(folder.rglob("*.vtp"))
+    files += sorted(folder.rglob("*.pvd"))
     files = [f for f in files if not f.name.startswith(".")]  # skip temporaries of a live run
     if not files:
-        sys.exit(f"no .vtu or .pvd files under {folder}")
+        sys.exit(f"no .vtu, .vtp or .pvd files under {folder}")
     print(f"VTK {vtk.vtkVersion.GetVTKVersion()}, {len(files)} files under {folder}")
     failures = 0
     for path in files:
-        problems = check_vtu(path) if path.suffix == ".vtu" else check_pvd(path)
+        check = {".vtu": check_vtu, ".vtp": check_vtp, ".pvd": check_pvd}[path.suffix]
+        problems = check(path)
         for problem in problems:
             print(f"FAIL {path}: {problem}")
         failures += bool(problems)

@@ -3,15 +3,21 @@
 use std::path::{Path, PathBuf};
 
 use geosph_core::{Particles, Real, Vector};
-use geosph_io::{CsvSeries, Error, Field, Frame, PvdCollection, write_vtu_sets};
+use geosph_io::{
+    CsvSeries, Error, Field, Frame, PvdCollection, write_vtp_triangles, write_vtu_sets,
+};
 use geosph_sph::Solver;
+use geosph_surface::SurfaceParameters;
 
 /// Frames (`frames/<name>_NNNNNN.vtu`), their series `<name>.pvd` and `diagnostics.csv` in one
-/// folder. Every file is written atomically, so a killed run leaves only complete files.
+/// folder; with free surfaces on, a surface per frame (`frames/<name>-surface_NNNNNN.vtp`)
+/// and its series `<name>-surface.pvd`. Every file is written atomically, so a killed run
+/// leaves only complete files.
 pub struct RunOutput {
     dir: PathBuf,
     name: String,
     pvd: Option<PvdCollection>,
+    surfaces: Option<(SurfaceParameters, PvdCollection)>,
     csv: CsvSeries,
     frames: usize,
 }
@@ -76,11 +82,13 @@ pub fn check_folder(dir: &Path) -> Result<(), String> {
 }
 
 impl RunOutput {
-    /// Creates `dir` (and `dir/frames` when `vtk`) and the CSV with `extra_columns`.
+    /// Creates `dir` (and `dir/frames` when `vtk`) and the CSV with `extra_columns`; with
+    /// `surface` and `vtk`, a free surface is drawn with every frame.
     pub fn create(
         dir: &Path,
         name: &str,
         vtk: bool,
+        surface: Option<SurfaceParameters>,
         extra_columns: &[&str],
     ) -> Result<Self, Error> {
         let frames = dir.join("frames");
@@ -97,6 +105,13 @@ impl RunOutput {
         } else {
             None
         };
+        let surfaces = match surface.filter(|_| vtk) {
+            Some(parameters) => Some((
+                parameters,
+                PvdCollection::create(dir.join(format!("{name}-surface.pvd")))?,
+            )),
+            None => None,
+        };
         let mut columns: Vec<&str> = DIAGNOSTIC_COLUMNS.to_vec();
         columns.extend_from_slice(extra_columns);
         let csv = CsvSeries::create(dir.join("diagnostics.csv"), &columns)?;
@@ -104,6 +119,7 @@ impl RunOutput {
             dir: dir.to_path_buf(),
             name: name.to_owned(),
             pvd,
+            surfaces,
             csv,
             frames: 0,
         })
@@ -116,11 +132,12 @@ impl RunOutput {
         dir: &Path,
         name: &str,
         vtk: bool,
+        surface: Option<SurfaceParameters>,
         extra_columns: &[&str],
         (time, frames, rows): (Real, usize, usize),
     ) -> Result<Self, String> {
-        let pvd = if vtk {
-            let path = dir.join(format!("{name}.pvd"));
+        let series = |file: String| {
+            let path = dir.join(file);
             let mut pvd = PvdCollection::open_or_create(&path).map_err(|e| e.to_string())?;
             pvd.truncate_after(time).map_err(|e| e.to_string())?;
             if pvd.entries().len() != frames {
@@ -130,9 +147,16 @@ impl RunOutput {
                     pvd.entries().len()
                 ));
             }
-            Some(pvd)
+            Ok(pvd)
+        };
+        let pvd = if vtk {
+            Some(series(format!("{name}.pvd"))?)
         } else {
             None
+        };
+        let surfaces = match surface.filter(|_| vtk) {
+            Some(parameters) => Some((parameters, series(format!("{name}-surface.pvd"))?)),
+            None => None,
         };
         let mut columns: Vec<&str> = DIAGNOSTIC_COLUMNS.to_vec();
         columns.extend_from_slice(extra_columns);
@@ -153,6 +177,7 @@ impl RunOutput {
             dir: dir.to_path_buf(),
             name: name.to_owned(),
             pvd,
+            surfaces,
             csv,
             frames,
         })
@@ -169,7 +194,8 @@ impl RunOutput {
     }
 
     /// Writes the particles (set 0) and the walls of `solver` (set 1) at `time` as the next
-    /// frame and adds it to the `.pvd`; does nothing when VTK output is off.
+    /// frame and adds it to the `.pvd`, and the particles' free surface to its own series
+    /// when surfaces are on; does nothing when VTK output is off.
     pub fn write_frame<const D: usize>(
         &mut self,
         time: Real,
@@ -182,6 +208,22 @@ impl RunOutput {
         let file = format!("frames/{}_{:06}.vtu", self.name, self.frames);
         write_particles(&self.dir.join(&file), fluid, solver)?;
         pvd.add(time, &file)?;
+        if let Some((parameters, series)) = &mut self.surfaces {
+            let file = format!("frames/{}-surface_{:06}.vtp", self.name, self.frames);
+            let position: Vec<Vector<3>> = fluid
+                .position
+                .iter()
+                .map(|x| Vector::<3>::from_fn(|k, _| if k < D { x[k] } else { 0.0 }))
+                .collect();
+            let path = self.dir.join(&file);
+            let surface =
+                geosph_surface::reconstruct(&position, parameters).map_err(|error| Error::Io {
+                    path: path.clone(),
+                    source: std::io::Error::other(error.to_string()),
+                })?;
+            write_vtp_triangles(&path, &surface.vertices, &surface.triangles)?;
+            series.add(time, &file)?;
+        }
         self.frames += 1;
         Ok(())
     }

@@ -94,6 +94,33 @@ pub struct OutputSpec {
     /// columns `F_<name>_x`, `F_<name>_y` (`_z`) in N (2D: N per m of width) and the moment
     /// `M_<name>` (3D: `M_<name>_x`, `_y`, `_z`) in N m (2D: N m per m) each.
     pub loads: Vec<LoadSpec>,
+    /// Free-surface meshes written with every frame (3D only; default none):
+    /// `frames/<name>-surface_NNNNNN.vtp`, listed in `<name>-surface.pvd`.
+    pub surface: Option<SurfaceSpec>,
+}
+
+/// How the free surface of the particles is drawn for viewing: the level set
+/// ρ = `threshold` ρ₀ of their density smoothed over `support`, by marching cubes of edge
+/// `cube` (`geosph_surface`, after Akinci et al. 2012). Lengths in units of dx.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SurfaceSpec {
+    /// Compact support radius of the smoothing kernel in dx, 1.5 to 6 (default 2.5).
+    pub support: Real,
+    /// Edge of the marching cubes in dx, 0.1 to 2 (default 0.5).
+    pub cube: Real,
+    /// The level drawn as a fraction of the rest density, 0.05 to 0.95 (default 0.6).
+    pub threshold: Real,
+}
+
+impl Default for SurfaceSpec {
+    fn default() -> Self {
+        Self {
+            support: 2.5,
+            cube: 0.5,
+            threshold: 0.6,
+        }
+    }
 }
 
 impl Default for OutputSpec {
@@ -104,6 +131,7 @@ impl Default for OutputSpec {
             vtk: true,
             probes: Vec::new(),
             loads: Vec::new(),
+            surface: None,
         }
     }
 }

@@ -48,7 +48,7 @@ pub mod validate;
 
 pub use format::{
     FluidSpec, HealthSpec, InitialVelocity, LoadSpec, OutputSpec, ProbeSpec, Region, Scene,
-    SolverSpec, WallSpec,
+    SolverSpec, SurfaceSpec, WallSpec,
 };
 pub use regions::BlockReport;
 pub use setup::{LoadSurface, Setup, build};

@@ -282,6 +282,18 @@ impl Scene {
         }
         self.validate_probes(dimension)?;
         self.validate_loads(dimension)?;
+        if let Some(surface) = &self.output.surface {
+            if dimension != 3 {
+                return Err(fail(
+                    "output.surface",
+                    "free-surface meshes are drawn for 3D scenes; a 2D scene's particles \
+                     show its free surface in ParaView as they are",
+                ));
+            }
+            in_range("output.surface.support", surface.support, 1.5, 6.0)?;
+            in_range("output.surface.cube", surface.cube, 0.1, 2.0)?;
+            in_range("output.surface.threshold", surface.threshold, 0.05, 0.95)?;
+        }
         if let Some(domain) = &self.domain {
             boxed("domain", &domain.min, &domain.max, dimension)?;
             if !domain.periodic.is_empty() && domain.periodic.len() != dimension {

@@ -7,6 +7,7 @@ use geosph_core::Particles;
 use geosph_fluid::{IncompressibleMethod, build_incompressible, build_wcsph};
 use geosph_scene::{Scene, SolverSpec};
 use geosph_sph::{Solver, SphSetup};
+use geosph_surface::SurfaceParameters;
 
 use crate::checkpoint::{Checkpoint, CheckpointError, Progress};
 use crate::error::RunError;
@@ -77,14 +78,21 @@ pub(super) fn open_output<const D: usize>(
         return Ok(None);
     };
     let vtk = options.vtk.unwrap_or(scene.output.vtk);
+    let surface = scene.output.surface.map(|spec| SurfaceParameters {
+        dx: scene.dx,
+        support: spec.support,
+        cube: spec.cube,
+        threshold: spec.threshold,
+    });
     let mut columns = observer.columns();
     columns.extend(gauges.iter().flat_map(|c| c.iter()).map(String::as_str));
     Ok(Some(match restart {
-        None => RunOutput::create(dir, &scene.name, vtk, &columns)?,
+        None => RunOutput::create(dir, &scene.name, vtk, surface, &columns)?,
         Some(progress) => RunOutput::resume(
             dir,
             &scene.name,
             vtk,
+            surface,
             &columns,
             (
                 progress.time,

@@ -1,0 +1,95 @@
+//! Triangle surfaces (free surfaces, meshes) as VTK XML PolyData files (`.vtp`) for ParaView.
+//!
+//! Format: the VTK XML file format, type `PolyData` (VTK User's Guide, "VTK File Formats"),
+//! encoded by [`vtkio`] as the particle frames are ([`crate::vtu`]): `Float64` points, the
+//! triangles as `Polys` (connectivity and offsets), little-endian binary arrays, base64 inline,
+//! LZ4-compressed.
+
+use geosph_core::Vector;
+use vtkio::model::{
+    Attributes, ByteOrder, DataSet, IOBuffer, PolyDataPiece, Version, VertexNumbers, Vtk,
+};
+use vtkio::xml::Compressor;
+
+use crate::{Error, write_atomically};
+
+/// Writes the triangles `triangles` (indices into `vertices`) to the `.vtp` file `path`,
+/// atomically. An empty surface is a valid file with no points.
+pub fn write_vtp_triangles(
+    path: impl AsRef<std::path::Path>,
+    vertices: &[Vector<3>],
+    triangles: &[[u32; 3]],
+) -> Result<(), Error> {
+    let path = path.as_ref();
+    let points: Vec<f64> = vertices.iter().flat_map(|v| [v[0], v[1], v[2]]).collect();
+    let piece = PolyDataPiece {
+        points: IOBuffer::F64(points),
+        verts: None,
+        lines: None,
+        polys: Some(VertexNumbers::XML {
+            connectivity: triangles.iter().flatten().map(|&v| u64::from(v)).collect(),
+            offsets: (1..=triangles.len() as u64).map(|t| 3 * t).collect(),
+        }),
+        strips: None,
+        data: Attributes::new(),
+    };
+    let vtk = Vtk {
+        version: Version::new_xml(1, 0),
+        title: String::new(),
+        byte_order: ByteOrder::LittleEndian,
+        data: DataSet::inline(piece),
+        file_path: None,
+    };
+    let invalid = |e: vtkio::xml::Error| std::io::Error::other(e.to_string());
+    let file = vtk
+        .try_into_xml_format(Compressor::LZ4, 1)
+        .map_err(|e| Error::io(path, invalid(e)))?;
+    if !triangles.is_empty() {
+        write_atomically(path, |w| file.write(w).map_err(invalid))
+    } else {
+        // As for an empty particle frame: VTK needs the zero counts that vtkio leaves out.
+        let mut text = Vec::new();
+        file.write(&mut text)
+            .map_err(|e| Error::io(path, invalid(e)))?;
+        let text = String::from_utf8_lossy(&text).replacen(
+            "<Piece>",
+            r#"<Piece NumberOfPoints="0" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="0">"#,
+            1,
+        );
+        write_atomically(path, |w| w.write_all(text.as_bytes()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tetrahedron_is_written_with_its_points_and_triangles() {
+        let dir = std::env::temp_dir().join(format!("geosph-vtp-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let vertices = [
+            Vector::<3>::zeros(),
+            Vector::<3>::x(),
+            Vector::<3>::y(),
+            Vector::<3>::z(),
+        ];
+        let triangles = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        let path = dir.join("tetrahedron.vtp");
+        write_vtp_triangles(&path, &vertices, &triangles).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(r#"type="PolyData""#), "{text}");
+        assert!(text.contains(r#"NumberOfPoints="4""#), "{text}");
+        assert!(text.contains(r#"NumberOfPolys="4""#), "{text}");
+        let empty = dir.join("empty.vtp");
+        write_vtp_triangles(&empty, &[], &[]).unwrap();
+        let text = std::fs::read_to_string(&empty).unwrap();
+        assert!(text.contains(r#"NumberOfPolys="0""#), "{text}");
+        if let Ok(sample) = std::env::var("GEOSPH_IO_SAMPLE_DIR") {
+            std::fs::create_dir_all(&sample).unwrap();
+            std::fs::copy(&path, std::path::Path::new(&sample).join("tetrahedron.vtp")).unwrap();
+            std::fs::copy(&empty, std::path::Path::new(&sample).join("empty.vtp")).unwrap();
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
