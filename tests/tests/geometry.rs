@@ -245,6 +245,63 @@ fn a_still_tank_in_a_mesh_channel_holds_the_hydrostatic_pressure() {
     check_hydrostatic(fluid, &average.mean(), particles, dx, depth, 1.0);
 }
 
+/// An open box container [0, 0.4]² × [0, 0.8] m: its bed and four sides, facing in.
+fn box_container() -> SurfaceMesh {
+    let (w, h) = (0.4, 0.8);
+    let wall = |x: [f64; 2], y: [f64; 2], facing: Vector<3>| {
+        (
+            [
+                v(x[0], y[0], 0.0),
+                v(x[1], y[1], 0.0),
+                v(x[1], y[1], h),
+                v(x[0], y[0], h),
+            ],
+            facing,
+        )
+    };
+    quads(
+        "container",
+        &[
+            (
+                [
+                    v(0.0, 0.0, 0.0),
+                    v(w, 0.0, 0.0),
+                    v(w, w, 0.0),
+                    v(0.0, w, 0.0),
+                ],
+                v(0.0, 0.0, 1.0),
+            ),
+            wall([0.0, 0.0], [0.0, w], v(1.0, 0.0, 0.0)),
+            wall([w, w], [0.0, w], v(-1.0, 0.0, 0.0)),
+            wall([0.0, w], [0.0, 0.0], v(0.0, 1.0, 0.0)),
+            wall([0.0, w], [w, w], v(0.0, -1.0, 0.0)),
+        ],
+    )
+}
+
+#[test]
+fn a_still_tank_in_a_3d_mesh_container_holds_the_hydrostatic_pressure() {
+    // The 3D still tank of `wcsph::hydrostatic_tank_3d_matches_rho_g_depth` (dx = 0.04 m,
+    // 0.4 m of water, 1.2 s) with its walls laid behind a mesh instead of a box tank: the
+    // same bars (no particle crosses a wall, every layer's mean pressure within the box
+    // tank's tolerance of rho g (H - z)).
+    let folder = scratch("geometry-container");
+    write_obj(&box_container(), &folder.join("container.obj"));
+    let (dx, depth) = (0.04, 0.4);
+    let mut scene = hydrostatic_scene(3, dx, depth, 1.2);
+    scene.walls = vec![WallSpec::Mesh {
+        file: "container.obj".into(),
+        scale: 1.0,
+        offset: Vec::new(),
+        section: 0.0,
+        layers: 3,
+    }];
+    scene.folder = Some(folder);
+    let (average, particles) = run_hydrostatic_scene(scene, dx, depth);
+    let (_, fluid) = average.last.space.as_ref().unwrap();
+    check_hydrostatic(fluid, &average.mean(), particles, dx, depth, 0.4);
+}
+
 /// Reads the columns `names` of `diagnostics.csv` in `folder`, averaged over the rows with
 /// time ≥ `from`.
 fn mean_columns(folder: &Path, names: &[&str], from: f64) -> Vec<f64> {
