@@ -26,6 +26,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod height_grid;
 mod lattice;
 mod mesh;
 pub mod primitives;

@@ -18,7 +18,9 @@ pub enum MeshError {
         reason: String,
     },
     /// The file's extension is not one this crate reads.
-    #[error("mesh `{path}`: unknown extension; use .stl (ASCII or binary) or .obj")]
+    #[error(
+        "mesh `{path}`: unknown extension; use .stl (ASCII or binary), .obj or .asc (ESRI ASCII height grid)"
+    )]
     Extension {
         /// The file as named.
         path: PathBuf,
@@ -89,7 +91,9 @@ impl SurfaceMesh {
     }
 
     /// Reads an STL (ASCII or binary; vertices merged by position) or a Wavefront OBJ file
-    /// (every object's faces, triangulated).
+    /// (every object's faces, triangulated), or a terrain from an ESRI ASCII height grid
+    /// (`.asc`: the cell centres at their elevation, two triangles per square of four
+    /// centres with data, facing up).
     pub fn read(path: &Path) -> Result<Self, MeshError> {
         let read_error = |reason: String| MeshError::Read {
             path: path.to_owned(),
@@ -144,6 +148,7 @@ impl SurfaceMesh {
                 }
                 (vertices, triangles)
             }
+            Some("asc") => crate::height_grid::read(path).map_err(read_error)?,
             _ => {
                 return Err(MeshError::Extension {
                     path: path.to_owned(),
@@ -352,7 +357,7 @@ pub(crate) mod tests {
         let error = SurfaceMesh::read(Path::new("terrain.ply")).unwrap_err();
         assert_eq!(
             error.to_string(),
-            "mesh `terrain.ply`: unknown extension; use .stl (ASCII or binary) or .obj"
+            "mesh `terrain.ply`: unknown extension; use .stl (ASCII or binary), .obj or .asc (ESRI ASCII height grid)"
         );
         let error = SurfaceMesh::read(Path::new("no/such/file.stl")).unwrap_err();
         assert!(

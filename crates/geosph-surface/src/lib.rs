@@ -6,7 +6,8 @@
 //! set ρ = c ρ₀ (c the `threshold`, 0.6 by default) triangulated by marching cubes (Lorensen
 //! & Cline 1987), the method of Akinci, Ihmsen, Akinci, Solenthaler & Teschner (2012,
 //! "Parallel surface reconstruction for particle-based fluids", Comput. Graph. Forum
-//! 31:1797–1809) as `splashsurf_lib` implements it: subdomains reconstructed in parallel and
+//! 31:1797–1809) as `splashsurf_lib` implements it: subdomains reconstructed in turn (on one
+//! thread, so that the surface is the same bit for bit for any number of threads) and
 //! stitched into one closed mesh. Anisotropic kernels (Yu & Turk 2013) are not applied, so
 //! thin sheets and jets look thicker than they are by about one kernel radius.
 //!
@@ -92,6 +93,9 @@ pub fn reconstruct(
         parameters.cube * dx,
     );
     settings.iso_surface_threshold = parameters.threshold;
+    // splashsurf's parallel subdomains differ in the last bit with the thread count; one
+    // thread keeps every output file the same for any number of threads.
+    settings.enable_multi_threading = false;
     let points: Vec<Vector3<Real>> = positions
         .iter()
         .map(|x| Vector3::new(x[0], x[1], x[2]))
