@@ -1,5 +1,6 @@
 //! `slope-failure`: runs the granular column collapse of Bui et al. (2008) (or a given soil
-//! scene) and writes the runout, the deposit profile and VTU frames; or searches a slope's
+//! scene) and writes the runout, the deposit profile and VTU frames, or a given fluid scene
+//! (a flow down a slope onto barriers: frames, diagnostics, loads); or searches a slope's
 //! factor of safety (`--factor-of-safety`, then its run at F = 1 with `--run-out`); or runs
 //! columns of the same bars at four aspect ratios against experiments (`--aspect-ratios`).
 
@@ -9,7 +10,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use geosph_runner::cli::RunArgs;
 use geosph_runner::{RunError, interrupt};
-use geosph_scene::{Region, Scene};
+use geosph_scene::{Region, Scene, SolverSpec};
 
 /// Granular column collapse and slope failure with elastoplastic soil SPH.
 #[derive(Debug, Parser)]
@@ -135,6 +136,12 @@ fn main() -> ExitCode {
         scene.end_time,
         out.display()
     );
+    if !matches!(scene.solver, SolverSpec::Soil(_)) {
+        eprintln!(
+            "slope-failure: a fluid scene (a flow down a slope, loads on barriers): VTU frames, diagnostics and the load and probe plots"
+        );
+        return run_frames(&scene, &options);
+    }
     let column = scene
         .fluid
         .as_ref()
@@ -267,10 +274,22 @@ fn run_frames(scene: &Scene, options: &geosph_runner::RunOptions) -> ExitCode {
         Ok(summary) => {
             println!("{summary}");
             if let Some(dir) = &options.out_dir {
+                let mut files = vec![if matches!(scene.solver, SolverSpec::Soil(_)) {
+                    "displacement, plastic strain, stress"
+                } else {
+                    "velocity, pressure"
+                }];
+                if !scene.output.probes.is_empty() {
+                    files.push("probes.png");
+                }
+                if !scene.output.loads.is_empty() {
+                    files.push("loads.png");
+                }
                 println!(
-                    "output             {} (open {}.pvd in ParaView: displacement, plastic strain, stress)",
+                    "output             {} (open {}.pvd in ParaView: {}; diagnostics.csv)",
                     dir.display(),
-                    scene.name
+                    scene.name,
+                    files.join("; ")
                 );
             }
             ExitCode::SUCCESS
