@@ -485,13 +485,26 @@ fn the_shipped_debris_flow_scene_loads_its_barrier_once_the_water_arrives() {
     };
     let summary = geosph_runner::run(&scene, &options, &mut geosph_runner::NoObserver).unwrap();
     assert_eq!(summary.escaped, 0);
-    let [early] = mean_columns(&out, &["F_barrier_x"], 0.0)[..] else {
-        unreachable!()
-    };
+    // The front cannot reach the barrier 1.9 m away within 0.3 s: faster than 6.3 m/s, more
+    // than the 4.8 m/s of a fall from the water's top to the bed.
+    let text = std::fs::read_to_string(out.join("diagnostics.csv")).unwrap();
+    let column = text
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|name| name == "F_barrier_x")
+        .unwrap();
+    for line in text.lines().skip(1) {
+        let values: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        if values[0] < 0.3 {
+            assert_eq!(values[column], 0.0, "a load at t = {} s", values[0]);
+        }
+    }
     let [late] = mean_columns(&out, &["F_barrier_x"], 0.8)[..] else {
         unreachable!()
     };
-    println!("barrier: mean force {early:.1} N/m over the run, {late:.1} N/m over t = 0.8-1 s");
-    assert!(late > 0.0 && early < late, "{early} {late}");
+    println!("barrier: mean force {late:.1} N/m over t = 0.8-1 s");
+    assert!(late > 0.0, "{late}");
     assert!(out.join("loads.png").exists());
 }

@@ -85,7 +85,7 @@ fn a_still_tanks_free_surface_is_closed_and_lies_on_the_water() {
         );
         // The water fills [0, 0.4]² × [0, 0.2]; its particles sit dx/2 inside each face, so a
         // surface that follows them lies within dx/2 of every face of the water, and its
-        // volume within the box grown and shrunk by dx/2 on each of its five faces.
+        // volume within the box grown and shrunk by dx/2 on each of its six faces.
         for k in 0..3 {
             let top = if k == 2 { depth } else { 0.4 };
             assert!(lo[k].abs() < dx / 2.0, "axis {k} from {}", lo[k]);

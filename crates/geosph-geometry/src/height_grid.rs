@@ -2,16 +2,22 @@
 //!
 //! The format (ESRI, "ESRI ASCII raster format", ArcGIS documentation): a header of
 //! `ncols`, `nrows`, `xllcorner` or `xllcenter`, `yllcorner` or `yllcenter`, `cellsize` and an
-//! optional `NODATA_value`, then `nrows` rows of `ncols` elevations, the first row the
-//! northernmost (largest y). With `xllcorner` the values belong to the cell centres.
+//! optional `NODATA_value` (default −9999), then `nrows` rows of `ncols` elevations, the first
+//! row the northernmost (largest y). Each value is the elevation at its cell's centre;
+//! `xllcorner` gives the lower-left corner of the lower-left cell, `xllcenter` its centre.
 
 use std::path::Path;
 
 use geosph_core::{Real, Vector};
 
-/// The vertices (cell centres at their elevation) and triangles (two per square of four
-/// centres with data, counter-clockwise seen from above) of the grid in `text`; an error
-/// naming the header line or the value that is wrong.
+/// The most cells a grid may have (a header that asks for more is refused before anything
+/// is allocated).
+const MAX_CELLS: usize = 10_000_000;
+
+/// The vertices (cell centres at their elevation) and triangles (each square of four centres
+/// split into two, counter-clockwise seen from above; a triangle with a missing value at one
+/// of its centres is left out) of the grid in `text`; an error naming the header line or the
+/// value that is wrong.
 pub(crate) fn triangulate(text: &str) -> Result<(Vec<Vector<3>>, Vec<[u32; 3]>), String> {
     let mut lines = text.lines().enumerate().peekable();
     let mut header = std::collections::HashMap::new();
@@ -44,7 +50,20 @@ pub(crate) fn triangulate(text: &str) -> Result<(Vec<Vector<3>>, Vec<[u32; 3]>),
         None => Err(format!("the header has no `{key}`")),
     };
     let (ncols, nrows) = (count("ncols")?, count("nrows")?);
+    if ncols * nrows > MAX_CELLS {
+        return Err(format!(
+            "{nrows} rows of {ncols} values: more than {MAX_CELLS} cells (cellsize in the wrong unit?)"
+        ));
+    }
     let corner = |axis: &str| match get(&[&format!("{axis}llcorner"), &format!("{axis}llcenter")]) {
+        Some(_)
+            if header.contains_key(&format!("{axis}llcorner"))
+                && header.contains_key(&format!("{axis}llcenter")) =>
+        {
+            Err(format!(
+                "the header gives both `{axis}llcorner` and `{axis}llcenter`"
+            ))
+        }
         Some((key, v)) if v.is_finite() => Ok((v, key.ends_with("corner"))),
         Some((key, v)) => Err(format!("`{key}` must be finite, got {v}")),
         None => Err(format!(
@@ -57,7 +76,7 @@ pub(crate) fn triangulate(text: &str) -> Result<(Vec<Vector<3>>, Vec<[u32; 3]>),
         Some((_, v)) => return Err(format!("`cellsize` must be a finite number > 0, got {v}")),
         None => return Err("the header has no `cellsize`".into()),
     };
-    let no_data = get(&["nodata_value"]).map(|(_, v)| v);
+    let no_data = get(&["nodata_value"]).map_or(Some(-9999.0), |(_, v)| Some(v));
     let mut elevation = Vec::with_capacity(ncols * nrows);
     for (number, line) in lines {
         for word in line.split_whitespace() {
@@ -95,14 +114,8 @@ pub(crate) fn triangulate(text: &str) -> Result<(Vec<Vector<3>>, Vec<[u32; 3]>),
     let mut triangles = Vec::new();
     for i in 0..nrows - 1 {
         for j in 0..ncols - 1 {
-            // South-west, south-east, north-east, north-west.
-            let corners = [
-                (i + 1) * ncols + j,
-                (i + 1) * ncols + j + 1,
-                i * ncols + j + 1,
-            ];
-            let [sw, se, ne] = corners;
-            let nw = i * ncols + j;
+            let (nw, ne) = (i * ncols + j, i * ncols + j + 1);
+            let (sw, se) = (nw + ncols, ne + ncols);
             for triangle in [[sw, se, ne], [sw, ne, nw]] {
                 if triangle.iter().all(|&k| elevation[k].is_some()) {
                     triangles.push(triangle.map(|k| vertex(k, &mut vertices)));
@@ -142,6 +155,15 @@ mod tests {
     }
 
     #[test]
+    fn cell_centre_origins_give_the_same_terrain_and_nodata_defaults_to_minus_9999() {
+        let centred = SLOPE
+            .replace("xllcorner 10.0", "xllcenter 11.0")
+            .replace("yllcorner 20.0", "yllcenter 21.0")
+            .replace("NODATA_value -9999\n", "");
+        assert_eq!(triangulate(&centred).unwrap(), triangulate(SLOPE).unwrap());
+    }
+
+    #[test]
     fn bad_grids_are_refused_naming_the_problem() {
         let cases = [
             (SLOPE.replace("ncols 3\n", ""), "the header has no `ncols`"),
@@ -160,6 +182,14 @@ mod tests {
             (
                 SLOPE.replace("nrows 2", "nrows x"),
                 "line 2: `nrows` needs a number",
+            ),
+            (
+                SLOPE.replace("nrows 2", "nrows 100000\nncols 100000"),
+                "more than 10000000 cells",
+            ),
+            (
+                SLOPE.replace("cellsize", "xllcenter 11.0\ncellsize"),
+                "both `xllcorner` and `xllcenter`",
             ),
         ];
         for (text, expected) in cases {

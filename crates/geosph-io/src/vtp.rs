@@ -14,7 +14,7 @@ use vtkio::xml::Compressor;
 use crate::{Error, write_atomically};
 
 /// Writes the triangles `triangles` (indices into `vertices`) to the `.vtp` file `path`,
-/// atomically. An empty surface is a valid file with no points.
+/// atomically. A surface without vertices is a valid file with no points.
 pub fn write_vtp_triangles(
     path: impl AsRef<std::path::Path>,
     vertices: &[Vector<3>],
@@ -42,9 +42,9 @@ pub fn write_vtp_triangles(
     };
     let invalid = |e: vtkio::xml::Error| std::io::Error::other(e.to_string());
     let file = vtk
-        .try_into_xml_format(Compressor::LZ4, 1)
+        .try_into_xml_format(Compressor::LZ4, crate::vtu::COMPRESSION_LEVEL)
         .map_err(|e| Error::io(path, invalid(e)))?;
-    if !triangles.is_empty() {
+    if !vertices.is_empty() {
         write_atomically(path, |w| file.write(w).map_err(invalid))
     } else {
         // As for an empty particle frame: VTK needs the zero counts that vtkio leaves out.

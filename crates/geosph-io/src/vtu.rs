@@ -38,7 +38,7 @@ pub const KIND_FIELD: &str = "kind";
 
 /// LZ4 level given to vtkio; any non-zero value switches compression on (LZ4 has no levels
 /// in vtkio's block encoder).
-const COMPRESSION_LEVEL: u32 = 1;
+pub(crate) const COMPRESSION_LEVEL: u32 = 1;
 
 /// The per-particle values of one field, borrowed from the particle storage.
 #[derive(Clone, Copy, Debug)]

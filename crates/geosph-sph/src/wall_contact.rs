@@ -19,14 +19,16 @@ use crate::PairLists;
 /// inward normal n_w and the depth d_w of [`WallParticles`]. With r = x_i − x_w, the particle
 /// is behind it when
 ///
-/// φ_i = r·n_w − d_w < 0  and  |r − (r·n_w) n_w| < d_w,
+/// φ_i = r·n_w − d_w < 0  and  |r − (r·n_w) n_w| < a_w,  a_w = max(d_w, √(D−1) Δx_w / 2),
 ///
-/// that is, inside the half-cylinder of radius d_w behind the surface point. The second
-/// condition keeps the test true to a convex corner (an obstacle's): a wall particle on the
-/// corner's diagonal is as near to two faces and carries the normal of one, whose plane runs on
-/// past the corner; the fluid beside the corner is farther than d_w from its axis. The ball of
-/// radius d_w about x_w lies in the wall (d_w is its distance to the surface), and the
-/// half-cylinder does too at corners of 90° or sharper.
+/// with Δx_w = V_w^{1/D} the wall particle's spacing: behind the surface point and within the
+/// footprint a_w of the wall particle's normal line. The footprint keeps the test true to a
+/// convex corner (an obstacle's): a wall particle on the corner's diagonal is as near to two
+/// faces and carries the normal of one, whose plane runs on past the corner; the fluid beside
+/// the corner is farther than d_w from its axis (the corner of a lattice-aligned right angle
+/// exactly; in 3D a band √2 Δx/2 − d_w thick beside the edge stays in the test). Its least
+/// value, half the diagonal of a lattice cell's face, covers every point of a flat wall behind
+/// its first layer, whose nearest wall particle is at most that far aside.
 ///
 /// Then x_i ← x_i − φ_i n_w and v_i ← v_i − min((v_i − u_w)·n_w, 0) n_w (an inelastic
 /// contact, as the collision handling of particle fluids: Ihmsen et al. 2014, Eurographics
@@ -54,20 +56,21 @@ pub fn keep_out_of_walls<const D: usize, K: Kernel<D>>(
         .map(|(i, (x, v))| {
             let mut nearest: Option<(Real, usize, Real)> = None;
             lists.for_each_wall_at(kernel, x, i, &walls.position, |pair| {
-                let w = pair.index;
                 if nearest.is_none_or(|(r2, _, _)| pair.r2 < r2) {
-                    let (depth, along) = (walls.depth[w], pair.r_ij.dot(&walls.normal[w]));
-                    let across = pair.r2 - along * along;
-                    let behind = if across < depth * depth {
-                        along - depth
-                    } else {
-                        0.0
-                    };
-                    nearest = Some((pair.r2, w, behind));
+                    let along = pair.r_ij.dot(&walls.normal[pair.index]);
+                    nearest = Some((pair.r2, pair.index, along));
                 }
             });
-            match nearest {
-                Some((_, w, behind)) if behind < 0.0 => {
+            let Some((r2, w, along)) = nearest else {
+                return 0;
+            };
+            let depth = walls.depth[w];
+            // The footprint: d_w, and at least the half-diagonal of a lattice cell's face.
+            let spacing = walls.volume[w].powf(1.0 / D as Real);
+            let footprint = depth.max(0.5 * spacing * ((D - 1) as Real).sqrt());
+            let behind = along - depth;
+            match behind < 0.0 && r2 - along * along < footprint * footprint {
+                true => {
                     let normal = walls.normal[w];
                     *x -= normal * behind;
                     let into = (*v - walls.velocity[w]).dot(&normal);
@@ -76,7 +79,7 @@ pub fn keep_out_of_walls<const D: usize, K: Kernel<D>>(
                     }
                     1
                 }
-                _ => 0,
+                false => 0,
             }
         })
         .sum()
@@ -171,5 +174,34 @@ mod tests {
         assert_eq!(position[0], Vector::<2>::new(0.45, 0.52));
         approx::assert_abs_diff_eq!(position[1], Vector::<2>::new(0.5, 0.46), epsilon = 1e-15);
         assert_eq!(velocity[1], Vector::<2>::new(0.0, 0.0));
+    }
+
+    #[test]
+    fn a_particle_behind_a_3d_bed_between_its_wall_particles_is_put_back() {
+        // Behind the bed z = 0 of a 3D tank, as far aside of its nearest wall particle
+        // (0.45, 0.45, -0.05) as a point of the bed can be: (0.4, 0.4) dx.
+        let dx = 0.1;
+        let walls = tank(
+            &Vector::<3>::zeros(),
+            &Vector::<3>::repeat(1.0),
+            dx,
+            3,
+            false,
+            1000.0,
+        );
+        let kernel = WendlandC2::<3>::new(1.3 * dx);
+        let domain = Domain::new(Vector::<3>::repeat(-0.5), Vector::<3>::repeat(1.5)).unwrap();
+        let mut position = vec![Vector::<3>::new(0.49, 0.49, -0.01)];
+        let mut velocity = vec![Vector::<3>::new(0.0, 0.0, -1.0)];
+        let mut lists =
+            PairLists::new(domain, kernel.support_radius(), 0.1, &walls.position, false).unwrap();
+        lists.update(&mut position, &walls.position).unwrap();
+        let moved = keep_out_of_walls(&lists, &kernel, &walls, &mut position, &mut velocity);
+        assert_eq!(moved, 1);
+        approx::assert_abs_diff_eq!(
+            position[0],
+            Vector::<3>::new(0.49, 0.49, 0.0),
+            epsilon = 1e-15
+        );
     }
 }

@@ -103,13 +103,16 @@ pub fn reconstruct(
     let reconstruction = splashsurf_lib::reconstruct_surface::<i64, Real>(&points, &settings)
         .map_err(|error| SurfaceError::Reconstruction(format!("{error:#}")))?;
     let mesh = reconstruction.mesh;
-    let vertices = mesh
-        .vertices
-        .iter()
-        .map(|v| Vector::<3>::new(v.x, v.y, v.z))
-        .collect();
-    let triangles = mesh.triangles.iter().map(|t| t.map(|v| v as u32)).collect();
-    Ok(SurfaceMesh::new("free surface", vertices, triangles).unwrap_or_else(|_| empty()))
+    // As marching cubes made it: dropping its degenerate triangles would open the surface.
+    Ok(SurfaceMesh {
+        name: "free surface".into(),
+        vertices: mesh
+            .vertices
+            .iter()
+            .map(|v| Vector::<3>::new(v.x, v.y, v.z))
+            .collect(),
+        triangles: mesh.triangles.iter().map(|t| t.map(|v| v as u32)).collect(),
+    })
 }
 
 #[cfg(test)]
