@@ -100,6 +100,7 @@ fn a_still_tanks_free_surface_is_closed_and_lies_on_the_water() {
 #[test]
 fn surface_options_out_of_range_are_refused_naming_the_field() {
     let mut scene = hydrostatic_scene(3, 0.025, 0.2, 0.2);
+    scene.output.vtk = true;
     for (spec, expected) in [
         (
             SurfaceSpec {
@@ -120,4 +121,13 @@ fn surface_options_out_of_range_are_refused_naming_the_field() {
         let error = scene.validate().unwrap_err().to_string();
         assert!(error.starts_with(expected), "{error}");
     }
+    // Without frames there is nothing to draw the surface with.
+    scene.output.surface = Some(SurfaceSpec::default());
+    scene.output.vtk = false;
+    let error = scene.validate().unwrap_err().to_string();
+    assert!(
+        error
+            .starts_with("scene field `output.surface`: free surfaces are written with the frames"),
+        "{error}"
+    );
 }

@@ -121,24 +121,15 @@ fn main() -> ExitCode {
             if let Some(wall_pressure) = &report.wall_pressure {
                 println!("{wall_pressure}");
             }
-            let mut files = Vec::new();
-            let surface = format!("{}-surface.pvd", scene.name);
-            if scene.output.surface.is_some() && options.vtk.unwrap_or(scene.output.vtk) {
-                files.push(surface.as_str());
-            }
+            let vtk = options.vtk.unwrap_or(scene.output.vtk);
+            let mut files = geosph_runner::scene_outputs(&scene, vtk);
             if !report.samples.is_empty() {
-                files.push("front.png, height.png, front.csv");
-            }
-            if !scene.output.probes.is_empty() {
-                files.push("probes.png");
-            }
-            if !scene.output.loads.is_empty() {
-                files.push("loads.png");
+                files.push("front.png, height.png, front.csv".to_owned());
             }
             if report.wall_pressure.is_some() {
-                files.push("wall-pressure.png");
+                files.push("wall-pressure.png".to_owned());
             }
-            files.push("diagnostics.csv");
+            files.push("diagnostics.csv".to_owned());
             println!(
                 "output             {} (open {}.pvd in ParaView; {})",
                 out.display(),

@@ -274,17 +274,14 @@ fn run_frames(scene: &Scene, options: &geosph_runner::RunOptions) -> ExitCode {
         Ok(summary) => {
             println!("{summary}");
             if let Some(dir) = &options.out_dir {
-                let mut files = vec![if matches!(scene.solver, SolverSpec::Soil(_)) {
+                let fields = if matches!(scene.solver, SolverSpec::Soil(_)) {
                     "displacement, plastic strain, stress"
                 } else {
                     "velocity, pressure"
-                }];
-                if !scene.output.probes.is_empty() {
-                    files.push("probes.png");
-                }
-                if !scene.output.loads.is_empty() {
-                    files.push("loads.png");
-                }
+                };
+                let vtk = options.vtk.unwrap_or(scene.output.vtk);
+                let mut files = vec![fields.to_owned()];
+                files.extend(geosph_runner::scene_outputs(scene, vtk));
                 println!(
                     "output             {} (open {}.pvd in ParaView: {}; diagnostics.csv)",
                     dir.display(),

@@ -68,5 +68,6 @@ mod summary;
 pub use checkpoint::CheckpointEvery;
 pub use loads::WallLoads;
 pub use observer::{NoObserver, Observer, push_records, take_records};
+pub use output::scene_outputs;
 pub use probes::PressureProbes;
 pub use run::{RunError, RunOptions, Summary, run};

@@ -37,6 +37,24 @@ pub const DIAGNOSTIC_COLUMNS: [&str; 10] = [
     "escaped",
 ];
 
+/// The files a run of `scene` writes beside its frames, `<name>.pvd` and `diagnostics.csv`,
+/// for an app's closing line: the free-surface series (when `vtk`, the frames, are written),
+/// and the probe and load plots.
+pub fn scene_outputs(scene: &geosph_scene::Scene, vtk: bool) -> Vec<String> {
+    let output = &scene.output;
+    let mut files = Vec::new();
+    if vtk && output.surface.is_some() {
+        files.push(format!("{}-surface.pvd", scene.name));
+    }
+    if !output.probes.is_empty() {
+        files.push("probes.png".to_owned());
+    }
+    if !output.loads.is_empty() {
+        files.push("loads.png".to_owned());
+    }
+    files
+}
+
 /// Checks, without creating anything, that the folder `dir` exists and can be written, or that
 /// it can be created: its nearest existing ancestor is a folder in which a file can be made
 /// (a probe file is created and removed at once). Returns a one-line reason otherwise.

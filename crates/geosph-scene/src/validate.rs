@@ -290,6 +290,13 @@ impl Scene {
                      show its free surface in ParaView as they are",
                 ));
             }
+            if !self.output.vtk {
+                return Err(fail(
+                    "output.surface",
+                    "free surfaces are written with the frames: set `vtk: true` or leave the \
+                     surface out",
+                ));
+            }
             in_range("output.surface.support", surface.support, 1.5, 6.0)?;
             in_range("output.surface.cube", surface.cube, 0.1, 2.0)?;
             in_range("output.surface.threshold", surface.threshold, 0.05, 0.95)?;
