@@ -6,12 +6,10 @@
 //! LZ4-compressed.
 
 use geosph_core::Vector;
-use vtkio::model::{
-    Attributes, ByteOrder, DataSet, IOBuffer, PolyDataPiece, Version, VertexNumbers, Vtk,
-};
-use vtkio::xml::Compressor;
+use vtkio::model::{Attributes, DataSet, IOBuffer, PolyDataPiece, VertexNumbers};
 
-use crate::{Error, write_atomically};
+use crate::Error;
+use crate::vtu::write_xml;
 
 /// Writes the triangles `triangles` (indices into `vertices`) to the `.vtp` file `path`,
 /// atomically. A surface without vertices is a valid file with no points.
@@ -33,31 +31,10 @@ pub fn write_vtp_triangles(
         strips: None,
         data: Attributes::new(),
     };
-    let vtk = Vtk {
-        version: Version::new_xml(1, 0),
-        title: String::new(),
-        byte_order: ByteOrder::LittleEndian,
-        data: DataSet::inline(piece),
-        file_path: None,
-    };
-    let invalid = |e: vtkio::xml::Error| std::io::Error::other(e.to_string());
-    let file = vtk
-        .try_into_xml_format(Compressor::LZ4, crate::vtu::COMPRESSION_LEVEL)
-        .map_err(|e| Error::io(path, invalid(e)))?;
-    if !vertices.is_empty() {
-        write_atomically(path, |w| file.write(w).map_err(invalid))
-    } else {
-        // As for an empty particle frame: VTK needs the zero counts that vtkio leaves out.
-        let mut text = Vec::new();
-        file.write(&mut text)
-            .map_err(|e| Error::io(path, invalid(e)))?;
-        let text = String::from_utf8_lossy(&text).replacen(
-            "<Piece>",
-            r#"<Piece NumberOfPoints="0" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="0">"#,
-            1,
-        );
-        write_atomically(path, |w| w.write_all(text.as_bytes()))
-    }
+    let empty = vertices.is_empty().then_some(
+        r#"NumberOfPoints="0" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="0""#,
+    );
+    write_xml(path, DataSet::inline(piece), empty)
 }
 
 #[cfg(test)]

@@ -38,7 +38,7 @@ pub const KIND_FIELD: &str = "kind";
 
 /// LZ4 level given to vtkio; any non-zero value switches compression on (LZ4 has no levels
 /// in vtkio's block encoder).
-pub(crate) const COMPRESSION_LEVEL: u32 = 1;
+const COMPRESSION_LEVEL: u32 = 1;
 
 /// The per-particle values of one field, borrowed from the particle storage.
 #[derive(Clone, Copy, Debug)]
@@ -234,31 +234,39 @@ fn write<const D: usize>(
             cell: Vec::new(),
         },
     };
+    let empty = (points == 0).then_some(r#"NumberOfPoints="0" NumberOfCells="0""#);
+    write_xml(path, DataSet::inline(piece), empty)
+}
+
+/// Writes `data` as a compressed VTK XML file at `path`, atomically. For a piece without
+/// points, `empty_counts` are the zero counts (`NumberOfPoints="0" …`) that VTK needs on its
+/// `<Piece>` and vtkio leaves out; such a file is small, so its text is patched in memory.
+pub(crate) fn write_xml(
+    path: &std::path::Path,
+    data: DataSet,
+    empty_counts: Option<&str>,
+) -> Result<(), Error> {
     let vtk = Vtk {
         version: Version::new_xml(1, 0),
         title: String::new(),
         byte_order: ByteOrder::LittleEndian,
-        data: DataSet::inline(piece),
+        data,
         file_path: None,
     };
     let invalid = |e: vtkio::xml::Error| std::io::Error::other(e.to_string());
     let file = vtk
         .try_into_xml_format(Compressor::LZ4, COMPRESSION_LEVEL)
         .map_err(|e| Error::io(path, invalid(e)))?;
-    if points > 0 {
-        write_atomically(path, |w| file.write(w).map_err(invalid))
-    } else {
-        // vtkio leaves out `NumberOfPoints="0"` and `NumberOfCells="0"`, without which VTK
-        // rejects the piece; an empty frame is small, so patch its text in memory.
-        let mut text = Vec::new();
-        file.write(&mut text)
-            .map_err(|e| Error::io(path, invalid(e)))?;
-        let text = String::from_utf8_lossy(&text).replacen(
-            "<Piece>",
-            r#"<Piece NumberOfPoints="0" NumberOfCells="0">"#,
-            1,
-        );
-        write_atomically(path, |w| w.write_all(text.as_bytes()))
+    match empty_counts {
+        None => write_atomically(path, |w| file.write(w).map_err(invalid)),
+        Some(counts) => {
+            let mut text = Vec::new();
+            file.write(&mut text)
+                .map_err(|e| Error::io(path, invalid(e)))?;
+            let text =
+                String::from_utf8_lossy(&text).replacen("<Piece>", &format!("<Piece {counts}>"), 1);
+            write_atomically(path, |w| w.write_all(text.as_bytes()))
+        }
     }
 }
 

@@ -65,22 +65,23 @@ pub fn keep_out_of_walls<const D: usize, K: Kernel<D>>(
                 return 0;
             };
             let depth = walls.depth[w];
+            let behind = along - depth;
+            if behind >= 0.0 {
+                return 0;
+            }
             // The footprint: d_w, and at least the half-diagonal of a lattice cell's face.
             let spacing = walls.volume[w].powf(1.0 / D as Real);
             let footprint = depth.max(0.5 * spacing * ((D - 1) as Real).sqrt());
-            let behind = along - depth;
-            match behind < 0.0 && r2 - along * along < footprint * footprint {
-                true => {
-                    let normal = walls.normal[w];
-                    *x -= normal * behind;
-                    let into = (*v - walls.velocity[w]).dot(&normal);
-                    if into < 0.0 {
-                        *v -= normal * into;
-                    }
-                    1
-                }
-                false => 0,
+            if r2 - along * along >= footprint * footprint {
+                return 0;
             }
+            let normal = walls.normal[w];
+            *x -= normal * behind;
+            let into = (*v - walls.velocity[w]).dot(&normal);
+            if into < 0.0 {
+                *v -= normal * into;
+            }
+            1
         })
         .sum()
 }
