@@ -10,7 +10,7 @@ use geosph_scene::{Scene, WallSpec, build};
 
 use crate::wcsph::{check_hydrostatic, hydrostatic_scene, run_hydrostatic_scene};
 
-fn scratch(name: &str) -> PathBuf {
+pub(crate) fn scratch(name: &str) -> PathBuf {
     let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&folder);
     std::fs::create_dir_all(&folder).unwrap();
@@ -18,7 +18,7 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 /// Writes `mesh` as a Wavefront OBJ file.
-fn write_obj(mesh: &SurfaceMesh, path: &Path) {
+pub(crate) fn write_obj(mesh: &SurfaceMesh, path: &Path) {
     let mut text = String::new();
     for v in &mesh.vertices {
         text.push_str(&format!("v {} {} {}\n", v[0], v[1], v[2]));
@@ -300,7 +300,7 @@ fn a_still_tank_in_a_3d_mesh_container_holds_the_hydrostatic_pressure() {
 
 /// Reads the columns `names` of `diagnostics.csv` in `folder`, averaged over the rows with
 /// time ≥ `from`.
-fn mean_columns(folder: &Path, names: &[&str], from: f64) -> Vec<f64> {
+pub(crate) fn mean_columns(folder: &Path, names: &[&str], from: f64) -> Vec<f64> {
     let text = std::fs::read_to_string(folder.join("diagnostics.csv")).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();

@@ -1,5 +1,6 @@
 //! Validation tests of geosph: one test binary, one module per subject.
 mod blow_up;
+mod bodies;
 mod checkpoint;
 mod corrections;
 mod dam_break;

@@ -4,8 +4,8 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_sph::{
-    Solver, SolverError, SolverState, StepReport, density_errors, event_step, keep_out_of_walls,
-    max_speed,
+    Solver, SolverError, SolverState, StepReport, WallMotion, density_errors, event_step,
+    keep_out_of_walls, max_speed,
 };
 use geosph_time::{Integrator, Rates, StepLimits, time_step};
 
@@ -25,6 +25,8 @@ pub struct Wcsph<const D: usize, K: Kernel<D>> {
     /// Steps between Shepard density re-initialisations (0: never).
     pub shepard_every: usize,
     steps: usize,
+    /// Walls moved at the end of each step (rigid bodies), if any.
+    motion: Option<Box<dyn WallMotion<D>>>,
 }
 
 impl<const D: usize, K: Kernel<D>> Wcsph<D, K> {
@@ -42,6 +44,7 @@ impl<const D: usize, K: Kernel<D>> Wcsph<D, K> {
             cfl: 0.25,
             shepard_every: 0,
             steps: 0,
+            motion: None,
         }
     }
 }
@@ -81,6 +84,11 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             &mut fluid.position,
             &mut fluid.velocity,
         );
+        if let Some(motion) = &mut self.motion {
+            motion
+                .advance(dt, fluid, &mut self.system.walls)
+                .map_err(SolverError::WallMotion)?;
+        }
         self.steps += 1;
         let (mean, max) = density_errors(&fluid.density, self.system.eos.rest_density);
         Ok(StepReport {
@@ -95,6 +103,16 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
 
     fn walls(&self) -> &WallParticles<D> {
         &self.system.walls
+    }
+
+    fn set_wall_motion(&mut self, motion: Box<dyn WallMotion<D>>) -> Result<(), SolverError> {
+        self.system.lists.walls_move();
+        self.motion = Some(motion);
+        Ok(())
+    }
+
+    fn wall_motion(&self) -> Option<&dyn WallMotion<D>> {
+        self.motion.as_deref()
     }
 
     fn sound_speed(&self) -> Real {

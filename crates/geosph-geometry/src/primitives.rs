@@ -67,3 +67,33 @@ pub fn cylinder(base: &Vector<3>, radius: Real, height: Real, segments: u32) -> 
     }
     SurfaceMesh::new("cylinder", vertices, triangles).expect("a cylinder has triangles")
 }
+
+/// The box [`min`, `max`], outward oriented (12 triangles).
+pub fn cuboid(min: &Vector<3>, max: &Vector<3>) -> SurfaceMesh {
+    // Corner k has bit a set when it is on the max side of axis a.
+    let corner = |k: u32| {
+        Vector::<3>::from_fn(|axis, _| {
+            if k >> axis & 1 == 1 {
+                max[axis]
+            } else {
+                min[axis]
+            }
+        })
+    };
+    let vertices = (0..8).map(corner).collect();
+    let triangles = vec![
+        [0, 2, 3],
+        [0, 3, 1], // z = min, seen from below
+        [4, 5, 7],
+        [4, 7, 6], // z = max
+        [0, 1, 5],
+        [0, 5, 4], // y = min
+        [2, 6, 7],
+        [2, 7, 3], // y = max
+        [0, 4, 6],
+        [0, 6, 2], // x = min
+        [1, 3, 7],
+        [1, 7, 5], // x = max
+    ];
+    SurfaceMesh::new("box", vertices, triangles).expect("a box has triangles")
+}

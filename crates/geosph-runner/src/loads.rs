@@ -5,21 +5,12 @@ use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
 use geosph_neighbours::CellGrid;
 use geosph_scene::LoadSurface;
+use geosph_sph::surface_load::{FluidField, LoadPoint, pressure_load};
 
-/// The loads on the scene's `output.loads` walls: at each sample, for each gauge,
-///
-/// F = −Σ_q p(x_q) n_q A_q,  M = Σ_q (x_q − x_c) × (−p(x_q) n_q A_q)
-///
-/// over the quadrature points x_q of its surface (normal n_q into the flow, area A_q), with the
-/// pressure at the surface extrapolated from the fluid as Adami, Hu & Adams (2012, eq. 27)
-/// extrapolate it to their wall particles, hydrostatically with gravity g:
-///
-/// p(x_q) = Σ_j V_j W_qj (p_j + ρ_j g·(x_q − x_j)) / Σ_j V_j W_qj,  V_j = m_j/ρ_j,
-///
-/// clamped at p ≥ 0 as the walls' pressure is (above a free surface it would read a tension),
-/// 0 where no fluid is within the kernel's support (a dry surface). The extrapolation makes a
-/// hydrostatic field exact on faces of any orientation: a plain Shepard average over the fluid
-/// on one side of a face would read the pressure about a particle spacing into the fluid.
+/// The loads on the scene's `output.loads` walls: at each sample, for each gauge, the force
+/// F = −Σ_q p(x_q) n_q A_q and moment M = Σ_q (x_q − x_c) × (−p(x_q) n_q A_q) over the
+/// quadrature points of its surface, with the pressure extrapolated to them from the fluid
+/// ([`geosph_sph::surface_load::pressure_load`]).
 pub struct WallLoads<const D: usize> {
     surfaces: Vec<LoadSurface<D>>,
     columns: Vec<String>,
@@ -104,14 +95,20 @@ impl<const D: usize> WallLoads<D> {
         for surface in &self.surfaces {
             let gauge = Gauge {
                 surface,
-                grid,
-                fluid,
-                pressure,
-                gravity: self.gravity,
+                field: FluidField {
+                    fluid,
+                    pressure,
+                    grid,
+                    gravity: self.gravity,
+                },
             };
             let (force, moment) = self.kernel.dispatch(self.smoothing_length, gauge);
             row.extend(force.iter());
-            row.extend(if D == 2 { &moment[2..] } else { &moment[..] });
+            row.extend(if D == 2 {
+                &moment.as_slice()[2..]
+            } else {
+                moment.as_slice()
+            });
         }
     }
 }
@@ -119,51 +116,19 @@ impl<const D: usize> WallLoads<D> {
 /// One gauge's integral, run with whichever kernel the scene names.
 struct Gauge<'a, const D: usize> {
     surface: &'a LoadSurface<D>,
-    grid: &'a CellGrid<D>,
-    fluid: &'a Particles<D>,
-    pressure: &'a [Real],
-    gravity: Vector<D>,
+    field: FluidField<'a, D>,
 }
 
 impl<const D: usize> KernelVisitor<D> for Gauge<'_, D> {
     /// The force and the moment (in 2D its z component only is not zero).
-    type Output = (Vector<D>, [Real; 3]);
+    type Output = (Vector<D>, Vector<3>);
 
     fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let Particles {
-            position,
-            mass,
-            density,
-            ..
-        } = self.fluid;
-        let mut force = Vector::<D>::zeros();
-        let mut moment = [0.0; 3];
-        for point in &self.surface.points {
-            let x = point.position;
-            let (mut weighted, mut weights) = (0.0, 0.0);
-            self.grid.for_each_neighbour(position, &x, |j, x_qj, r| {
-                let j = j as usize;
-                let w = mass[j] / density[j] * kernel.value(r);
-                let hydrostatic = density[j] * self.gravity.dot(&x_qj);
-                weighted += w * (self.pressure[j] + hydrostatic);
-                weights += w;
-            });
-            if weights <= 0.0 {
-                continue;
-            }
-            // Clamped at zero, as the walls' own pressure is: above a free surface the
-            // extrapolation would read a tension that the water does not exert.
-            let load = point.normal * (-(weighted / weights).max(0.0) * point.area);
-            force += load;
-            let arm = x - self.surface.about;
-            if D == 2 {
-                moment[2] += arm[0] * load[1] - arm[1] * load[0];
-            } else {
-                moment[0] += arm[1] * load[2] - arm[2] * load[1];
-                moment[1] += arm[2] * load[0] - arm[0] * load[2];
-                moment[2] += arm[0] * load[1] - arm[1] * load[0];
-            }
-        }
-        (force, moment)
+        let points = self.surface.points.iter().map(|point| LoadPoint {
+            position: point.position,
+            normal: point.normal,
+            area: point.area,
+        });
+        pressure_load(&kernel, &self.field, points, &self.surface.about)
     }
 }

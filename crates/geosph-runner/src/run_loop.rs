@@ -81,6 +81,14 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             setup.gravity,
             &setup.domain,
         );
+        let bodies = std::mem::take(&mut setup.bodies);
+        let fixed = std::mem::take(&mut setup.fixed);
+        let coupling = geosph_bodies::Coupling {
+            kernel: setup.kernel,
+            smoothing_length: setup.smoothing_length,
+            gravity: setup.gravity,
+            domain: setup.domain.clone(),
+        };
         let (mut fluid, solver_inputs) = setup.split();
         let probes = PressureProbes::<D>::new(
             &scene.output.probes,
@@ -90,6 +98,33 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         let wall_particles = solver_inputs.walls.len();
         let limit_inputs = LimitInputs::of(&solver_inputs);
         let mut solver = build_solver(scene, solver_inputs, &mut fluid)?;
+        if !bodies.is_empty() {
+            if options.restart.is_some() {
+                return Err(RunError::Resume(
+                    "a scene with rigid bodies cannot be restarted yet (their state is not in \
+                     checkpoints): run it from the start"
+                        .into(),
+                ));
+            }
+            let bodies = geosph_bodies::RigidBodies::new(bodies, &fixed, solver.walls(), coupling)
+                .map_err(|error| {
+                    RunError::Scene(geosph_scene::SceneError::Field {
+                        field: "bodies".into(),
+                        message: error.to_string(),
+                    })
+                })?;
+            solver
+                .set_wall_motion(Box::new(bodies))
+                .map_err(|source| RunError::Solver {
+                    time: 0.0,
+                    step: 0,
+                    source,
+                })?;
+        }
+        let motion_columns = solver
+            .wall_motion()
+            .map(|motion| motion.columns())
+            .unwrap_or_default();
         let restart = match &options.restart {
             Some(path) => Some(restore(path, scene, &mut fluid, solver.as_mut(), observer)?),
             None => None,
@@ -110,7 +145,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             scene,
             options,
             &*observer,
-            [probes.columns(), loads.columns()],
+            [probes.columns(), loads.columns(), &motion_columns],
             restart.as_ref(),
         )?;
         let bar = progress_bar(options, scene.end_time);
@@ -136,9 +171,11 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             bar,
             next_output: 0.0,
             next_sample: 0.0,
+            // Bodies are not in checkpoints yet: a run with bodies writes none.
             checkpoint_path: options
                 .out_dir
                 .as_ref()
+                .filter(|_| scene.bodies.is_empty())
                 .map(|dir| dir.join(checkpoint::FILE_NAME)),
             wall_particles,
             blocks,
@@ -311,6 +348,9 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         self.observer.sample(time, fluid, &mut self.row);
         self.probes.sample(fluid, &mut self.row);
         self.loads.sample(fluid, &mut self.row);
+        if let Some(motion) = self.solver.wall_motion() {
+            motion.sample(&mut self.row);
+        }
         if let Some(output) = &mut self.output {
             output.sample(&self.row)?;
         }

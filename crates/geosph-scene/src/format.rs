@@ -40,6 +40,9 @@ pub struct Scene {
     /// Walls.
     #[serde(default)]
     pub walls: Vec<WallSpec>,
+    /// Rigid bodies moved by the fluid (default none).
+    #[serde(default)]
+    pub bodies: Vec<crate::bodies::BodySpec>,
     /// The solver and its parameters.
     pub solver: SolverSpec,
     /// Limits of the blow-up checks.

@@ -38,6 +38,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod bodies;
 mod error;
 pub mod format;
 mod initial;
@@ -46,6 +47,7 @@ mod regions;
 pub mod setup;
 pub mod validate;
 
+pub use bodies::{BodyShape, BodySpec};
 pub use format::{
     FluidSpec, HealthSpec, InitialVelocity, LoadSpec, OutputSpec, ProbeSpec, Region, Scene,
     SolverSpec, SurfaceSpec, WallSpec,

@@ -6,11 +6,13 @@ use geosph_kernels::KernelKind;
 use geosph_sph::EquationOfState;
 use geosph_sph::SphSetup;
 
+use crate::bodies::fixed_shape_of_tank;
 use crate::error::SceneError;
 use crate::format::{LoadSpec, Scene, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity, vector};
 use crate::regions::{BlockReport, Filled, check_size, fill_blocks, read_mesh};
 use crate::validate::MAX_PARTICLES;
+use geosph_bodies::{BodyDescription, FixedShape};
 use geosph_geometry::{Section, SurfacePoint, WallSite, WallSurface};
 
 /// What a solver is built from: the scene turned into particles and numbers.
@@ -40,6 +42,10 @@ pub struct Setup<const D: usize> {
     pub blocks: Vec<BlockReport>,
     /// The surfaces of the scene's load gauges (`output.loads`), in their order.
     pub loads: Vec<LoadSurface<D>>,
+    /// The scene's rigid bodies; their dummy particles are the last of `walls`.
+    pub bodies: Vec<BodyDescription<D>>,
+    /// The fixed walls as the bodies collide with them (empty without bodies).
+    pub fixed: Vec<FixedShape<D>>,
 }
 
 /// The surface a load gauge integrates the fluid's pressure over.
@@ -211,6 +217,33 @@ fn mesh_walls<const D: usize>(
     Ok((particles, surface))
 }
 
+/// A mesh wall's surface as bodies collide with it: its triangles (3D), or in 2D the pieces
+/// of its section y = `section`, dx/2 long.
+fn mesh_shape<const D: usize>(surface: &WallSurface, section: Real, dx: Real) -> FixedShape<D> {
+    let point = |x: &Vector<3>| Vector::<D>::from_fn(|k, _| x[k]);
+    if D == 2 {
+        let pieces = surface.section_quadrature(&Section::at_y(section), 0.5 * dx);
+        FixedShape::Segments(
+            pieces
+                .iter()
+                .map(|p| {
+                    let tangent = Vector::<2>::new(-p.normal[1], p.normal[0]) * (0.5 * p.area);
+                    let lift = |x: Vector<2>| Vector::<D>::from_fn(|k, _| x[k]);
+                    [lift(p.position - tangent), lift(p.position + tangent)]
+                })
+                .collect(),
+        )
+    } else {
+        let mesh = surface.mesh();
+        FixedShape::Triangles(
+            mesh.triangles
+                .iter()
+                .map(|t| t.map(|v| point(&mesh.vertices[v as usize])))
+                .collect(),
+        )
+    }
+}
+
 /// The quadrature of a load gauge on `surface`, points dx/2 apart.
 fn load_surface<const D: usize>(
     spec: &LoadSpec,
@@ -339,6 +372,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     let mut loads = Vec::new();
     // The first wall particle of each wall, to name the wall a fluid particle overlaps.
     let mut wall_starts = Vec::with_capacity(scene.walls.len());
+    // What bodies collide with; made only when there are bodies.
+    let mut fixed = Vec::new();
+    let with_bodies = !scene.bodies.is_empty();
     for (index, wall) in scene.walls.iter().enumerate() {
         wall_starts.push(walls.len());
         match wall {
@@ -365,6 +401,10 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     });
                 }
                 walls.extend(tank);
+                if with_bodies {
+                    let thickness = *layers as Real * dx;
+                    fixed.extend(fixed_shape_of_tank(&min, &max, thickness, *open_top));
+                }
             }
             WallSpec::Polyline {
                 points,
@@ -392,6 +432,15 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     .velocity
                     .fill(Vector::<2>::new(velocity.0, velocity.1));
                 walls.extend(to_dimension::<D>(plane));
+                if with_bodies {
+                    let lift = |x: &Vector<2>| Vector::<D>::from_fn(|k, _| x[k]);
+                    fixed.push(FixedShape::Segments(
+                        points
+                            .windows(2)
+                            .map(|s| [lift(&s[0]), lift(&s[1])])
+                            .collect(),
+                    ));
+                }
             }
             WallSpec::Mesh {
                 file,
@@ -409,6 +458,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     &walls.position,
                 )?;
                 walls.extend(particles);
+                if with_bodies {
+                    fixed.push(mesh_shape::<D>(&surface, *section, dx));
+                }
                 for (k, spec) in scene.output.loads.iter().enumerate() {
                     if spec.wall == index {
                         loads.push((k, load_surface::<D>(spec, &surface, *section, dx)));
@@ -416,6 +468,30 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                 }
             }
         }
+    }
+
+    let fixed_walls = walls.len();
+    let bodies = crate::bodies::build::<D>(scene, rest_density, &mut walls)?;
+    if let Some((k, (i, j, distance))) = bodies.iter().enumerate().find_map(|(k, body)| {
+        overlap(
+            &walls.position[body.walls.clone()],
+            &walls.position[..fixed_walls],
+            0.5 * dx,
+        )
+        .map(|found| (k, found))
+    }) {
+        let wall = wall_starts.partition_point(|&start| start <= j) - 1;
+        return Err(SceneError::Field {
+            field: format!("bodies[{k}]"),
+            message: format!(
+                "starts overlapping walls[{wall}]: its particle at {:?} is {distance:.3e} m \
+                 from the wall's at {:?}, closer than dx/2 = {}; move the body clear of the \
+                 wall (resting on it is fine)",
+                walls.position[bodies[k].walls.start + i].as_slice(),
+                walls.position[j].as_slice(),
+                0.5 * dx
+            ),
+        });
     }
 
     // Meshes count once read: the scene's estimate could not bound them.
@@ -430,9 +506,15 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         });
     }
     if let Some((i, j, distance)) = overlap(&fluid.position, &walls.position, 0.5 * dx) {
-        let wall = wall_starts.partition_point(|&start| start <= j) - 1;
+        let field = match bodies.iter().position(|body| body.walls.contains(&j)) {
+            Some(k) => format!("bodies[{k}]"),
+            None => format!(
+                "walls[{}]",
+                wall_starts.partition_point(|&start| start <= j) - 1
+            ),
+        };
         return Err(SceneError::Field {
-            field: format!("walls[{wall}]"),
+            field,
             message: format!(
                 "fluid particle {i} at {:?} is {distance:.3e} m from wall particle {j} at {:?}, \
                  closer than dx/2 = {}: the fluid overlaps the wall",
@@ -503,5 +585,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
             loads.sort_by_key(|(k, _)| *k);
             loads.into_iter().map(|(_, surface)| surface).collect()
         },
+        bodies,
+        fixed,
     })
 }

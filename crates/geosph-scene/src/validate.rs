@@ -6,7 +6,7 @@ use geosph_kernels::KernelKind;
 pub use crate::error::SceneError;
 use crate::format::{FluidSpec, InitialVelocity, Region, Scene, SolverSpec, WallSpec};
 
-fn fail(field: impl Into<String>, message: impl Into<String>) -> SceneError {
+pub(crate) fn fail(field: impl Into<String>, message: impl Into<String>) -> SceneError {
     SceneError::Field {
         field: field.into(),
         message: message.into(),
@@ -30,7 +30,7 @@ pub const MAX_SAMPLES: Real = 1.0e7;
 /// Longest scene name (it becomes part of output file names).
 pub const MAX_NAME_LENGTH: usize = 100;
 
-fn positive(field: &str, value: Real) -> Result<(), SceneError> {
+pub(crate) fn positive(field: &str, value: Real) -> Result<(), SceneError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
@@ -41,7 +41,7 @@ fn positive(field: &str, value: Real) -> Result<(), SceneError> {
     }
 }
 
-fn in_range(field: &str, value: Real, low: Real, high: Real) -> Result<(), SceneError> {
+pub(crate) fn in_range(field: &str, value: Real, low: Real, high: Real) -> Result<(), SceneError> {
     if value.is_finite() && value >= low && value <= high {
         Ok(())
     } else {
@@ -54,7 +54,7 @@ fn in_range(field: &str, value: Real, low: Real, high: Real) -> Result<(), Scene
 
 /// 1 to [`MAX_NAME_LENGTH`] ASCII letters, digits, '-', '_' or '.': safe in a file name and
 /// in a CSV header.
-fn plain_name(name: &str) -> bool {
+pub(crate) fn plain_name(name: &str) -> bool {
     !name.is_empty()
         && name.len() <= MAX_NAME_LENGTH
         && name
@@ -105,7 +105,7 @@ fn lattice_points(min: &[Real], max: &[Real], dx: Real, pad: Real) -> Real {
 }
 
 /// The file and placement of a mesh region or wall.
-fn mesh_placement(
+pub(crate) fn mesh_placement(
     field: &str,
     file: &str,
     scale: Real,
@@ -129,7 +129,12 @@ fn mesh_placement(
     Ok(())
 }
 
-fn boxed(field: &str, min: &[Real], max: &[Real], dimension: usize) -> Result<(), SceneError> {
+pub(crate) fn boxed(
+    field: &str,
+    min: &[Real],
+    max: &[Real],
+    dimension: usize,
+) -> Result<(), SceneError> {
     point(&format!("{field}.min"), min, dimension)?;
     point(&format!("{field}.max"), max, dimension)?;
     for k in 0..dimension {
@@ -282,6 +287,7 @@ impl Scene {
         }
         self.validate_probes(dimension)?;
         self.validate_loads(dimension)?;
+        crate::bodies::validate(self)?;
         if let Some(surface) = &self.output.surface {
             if dimension != 3 {
                 return Err(fail(

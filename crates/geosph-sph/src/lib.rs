@@ -20,6 +20,8 @@
 //! - [`lattice`]: kernel sums and gradient calibration on the initial lattice.
 //! - [`shifting`]: δ⁺-SPH particle shifting with free-surface detection.
 //! - [`wall_contact`]: [`keep_out_of_walls`], no particle ends a step behind a wall's surface.
+//! - [`wall_motion`]: [`WallMotion`], walls a solver moves once per step (rigid bodies).
+//! - [`surface_load`]: the force and moment of the fluid's pressure on a surface.
 #![warn(missing_docs)]
 
 pub mod config_error;
@@ -32,8 +34,10 @@ pub mod setup;
 pub mod shifting;
 pub mod solver;
 pub mod state;
+pub mod surface_load;
 pub mod viscosity;
 pub mod wall_contact;
+pub mod wall_motion;
 
 pub use config_error::ConfigError;
 pub use density_error::{compression, density_errors};
@@ -48,3 +52,4 @@ pub use viscosity::{
     ViscousVisitor,
 };
 pub use wall_contact::keep_out_of_walls;
+pub use wall_motion::WallMotion;

@@ -46,6 +46,9 @@ pub struct PairLists<const D: usize> {
     contact: NeighbourList,
     wall_side: Option<NeighbourList>,
     listed_position: Vec<Vector<D>>,
+    /// The wall positions of the last build, kept once the walls move
+    /// ([`PairLists::walls_move`]).
+    listed_wall_position: Option<Vec<Vector<D>>>,
     valid: bool,
     builds: usize,
     /// Steps between Z-order sorts of the particles (0: never).
@@ -79,6 +82,7 @@ impl<const D: usize> PairLists<D> {
             contact: NeighbourList::new(),
             wall_side: wall_side.then(NeighbourList::new),
             listed_position: Vec::new(),
+            listed_wall_position: None,
             valid: false,
             builds: 0,
             reorder_every: 100,
@@ -155,7 +159,7 @@ impl<const D: usize> PairLists<D> {
         wall_position: &[Vector<D>],
     ) -> Result<bool, SearchError> {
         self.wrap(position);
-        if !self.stale(position) {
+        if !self.stale(position, wall_position) {
             return Ok(false);
         }
         self.build(position, wall_position)?;
@@ -180,6 +184,15 @@ impl<const D: usize> PairLists<D> {
         Ok(())
     }
 
+    /// From now on the walls may move between updates (rigid bodies): each build rebins them,
+    /// and the lists are stale once a pair may have come within the support, i.e. when with
+    /// the largest displacements δ_p of a particle and δ_w of a wall particle since the build
+    /// 2 δ_p > s or δ_p + δ_w > s (s the skin). Forgets the lists.
+    pub fn walls_move(&mut self) {
+        self.listed_wall_position.get_or_insert_with(Vec::new);
+        self.valid = false;
+    }
+
     /// The positions the lists were built at, while they are valid and have a skin (a
     /// checkpoint saves them: the lists' order decides the summation order).
     pub fn listed_positions(&self) -> Option<&[Vector<D>]> {
@@ -199,18 +212,25 @@ impl<const D: usize> PairLists<D> {
     }
 
     /// Whether the lists must be rebuilt for `position`: without a skin always; with one when
-    /// they are invalid or some particle moved more than half the skin since they were built.
-    fn stale(&self, position: &[Vector<D>]) -> bool {
+    /// they are invalid or some particle moved more than half the skin since they were built
+    /// (with moving walls, also when a particle and a wall particle together moved more than
+    /// the skin).
+    fn stale(&self, position: &[Vector<D>], wall_position: &[Vector<D>]) -> bool {
         if self.skin <= 0.0 || !self.valid || self.listed_position.len() != position.len() {
             return true;
         }
-        let domain = &self.domain;
-        let largest = position
-            .par_iter()
-            .zip(self.listed_position.par_iter())
-            .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
-            .reduce(|| 0.0, Real::max);
-        4.0 * largest > self.skin * self.skin
+        let particle2 = largest_displacement2(&self.domain, position, &self.listed_position);
+        if 4.0 * particle2 > self.skin * self.skin {
+            return true;
+        }
+        match &self.listed_wall_position {
+            Some(listed) if listed.len() != wall_position.len() => true,
+            Some(listed) => {
+                let wall2 = largest_displacement2(&self.domain, wall_position, listed);
+                particle2.sqrt() + wall2.sqrt() > self.skin
+            }
+            None => false,
+        }
     }
 
     /// Builds the grid and the lists at `position` (parallel, in cell order, identical for any
@@ -220,6 +240,11 @@ impl<const D: usize> PairLists<D> {
         position: &[Vector<D>],
         wall_position: &[Vector<D>],
     ) -> Result<(), SearchError> {
+        if let Some(listed) = &mut self.listed_wall_position {
+            self.wall_grid.build(wall_position)?;
+            listed.clear();
+            listed.extend_from_slice(wall_position);
+        }
         self.grid.build(position)?;
         self.grid
             .neighbour_list(position, position, &mut self.inner);
@@ -352,6 +377,19 @@ impl<const D: usize> PairLists<D> {
             }
         }
     }
+}
+
+/// The largest |x − x₀|² over `position` and `listed` (minimum image).
+fn largest_displacement2<const D: usize>(
+    domain: &Domain<D>,
+    position: &[Vector<D>],
+    listed: &[Vector<D>],
+) -> Real {
+    position
+        .par_iter()
+        .zip(listed.par_iter())
+        .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
+        .reduce(|| 0.0, Real::max)
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use geosph_neighbours::SearchError;
 use serde::{Deserialize, Serialize};
 
 use crate::state::{SolverState, StateError};
+use crate::wall_motion::WallMotion;
 
 /// What one step did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -39,6 +40,9 @@ pub enum SolverError {
     /// The stage run before t = 0 ([`Solver::initial_stage`]) failed.
     #[error("{0}")]
     Stage(String),
+    /// Moving walls ([`WallMotion`]) failed or are not supported by this solver.
+    #[error("{0}")]
+    WallMotion(String),
 }
 
 /// What a stage run before t = 0 reached (the soil's geostatic stage): a line for the run's
@@ -120,6 +124,20 @@ pub trait Solver<const D: usize>: Send {
 
     /// The wall particles, with their current pressure.
     fn walls(&self) -> &WallParticles<D>;
+
+    /// Moves walls with `motion` at the end of every step from now on (rigid bodies); an
+    /// error for a solver whose walls cannot move (the default).
+    fn set_wall_motion(&mut self, _motion: Box<dyn WallMotion<D>>) -> Result<(), SolverError> {
+        Err(SolverError::WallMotion(format!(
+            "the {} solver does not move walls: rigid bodies need a fluid solver",
+            self.name()
+        )))
+    }
+
+    /// The walls' motion, if set.
+    fn wall_motion(&self) -> Option<&dyn WallMotion<D>> {
+        None
+    }
 
     /// Per-particle quantities derived from `particles` for output (the soil's stress
     /// components and invariants), by name; the runner writes them into every frame after

@@ -38,7 +38,7 @@ use geosph_sph::lattice::{
 };
 use geosph_sph::{
     ShiftingInput, Solver, SolverError, SolverState, StateArrays, StateError, StepReport,
-    compression, event_step, keep_out_of_walls, max_speed,
+    WallMotion, compression, event_step, keep_out_of_walls, max_speed,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -244,6 +244,8 @@ pub struct Incompressible<const D: usize, K: Kernel<D>, M: PressureMethod<D>> {
     previous_velocity: Vec<Vector<D>>,
     max_acceleration: Real,
     steps: usize,
+    /// Walls moved at the end of each step (rigid bodies), if any.
+    motion: Option<Box<dyn WallMotion<D>>>,
 }
 
 impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Incompressible<D, K, M> {
@@ -279,6 +281,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Incompressible<D, K, M>
             scratch,
             previous_velocity: vec![Vector::zeros(); fluid.len()],
             steps: 0,
+            motion: None,
         })
     }
 
@@ -370,6 +373,13 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
                 max.max((v - v0).norm() / dt)
             });
 
+        // Bodies move with the pressure of this step, before the lists and wall gradients
+        // of the next are built.
+        if let Some(motion) = &mut self.motion {
+            motion
+                .advance(dt, fluid, &mut self.system.walls)
+                .map_err(SolverError::WallMotion)?;
+        }
         self.steps += 1;
         if let Some(permutation) = self.system.lists.sort_if_due(self.steps, fluid)? {
             self.method.permute(&permutation);
@@ -391,6 +401,16 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
 
     fn walls(&self) -> &WallParticles<D> {
         &self.system.walls
+    }
+
+    fn set_wall_motion(&mut self, motion: Box<dyn WallMotion<D>>) -> Result<(), SolverError> {
+        self.system.lists.walls_move();
+        self.motion = Some(motion);
+        Ok(())
+    }
+
+    fn wall_motion(&self) -> Option<&dyn WallMotion<D>> {
+        self.motion.as_deref()
     }
 
     fn sound_speed(&self) -> Real {

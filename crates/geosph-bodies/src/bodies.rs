@@ -1,0 +1,317 @@
+//! [`RigidBodies`]: the scene's bodies as moving dummy walls, pushed by the flow's pressure and
+//! moved by rapier.
+
+use std::ops::Range;
+
+use geosph_boundary::WallParticles;
+use geosph_core::{Domain, Particles, Real, Vector};
+use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
+use geosph_neighbours::CellGrid;
+use geosph_sph::WallMotion;
+use geosph_sph::surface_load::{FluidField, LoadPoint, pressure_load};
+
+use crate::world::{FixedShape, MassProperties, Motion, World};
+
+/// A body as the scene describes it, in the world at t = 0.
+#[derive(Clone, Debug)]
+pub struct BodyDescription<const D: usize> {
+    /// Its name, for the diagnostics' columns.
+    pub name: String,
+    /// Density ρ_b, kg/m³.
+    pub density: Real,
+    /// Coulomb friction coefficient μ of its contacts.
+    pub friction: Real,
+    /// Its dummy particles in the solver's walls.
+    pub walls: Range<usize>,
+    /// Lattice points filling it, each the centre of a cell of volume `cell_volume`: its mass
+    /// properties.
+    pub interior: Vec<Vector<D>>,
+    /// dx^D.
+    pub cell_volume: Real,
+    /// Quadrature points of its surface (normals out of the body, into the flow).
+    pub surface: Vec<LoadPoint<D>>,
+    /// Points whose convex hull is its contact shape.
+    pub hull: Vec<Vector<D>>,
+}
+
+/// What the coupling needs of the run: the kernel the pressure is extrapolated with, gravity
+/// and the domain the fluid is in.
+#[derive(Clone, Debug)]
+pub struct Coupling<const D: usize> {
+    /// The scene's kernel.
+    pub kernel: KernelKind,
+    /// Its smoothing length h.
+    pub smoothing_length: Real,
+    /// Gravity g.
+    pub gravity: Vector<D>,
+    /// The domain.
+    pub domain: Domain<D>,
+}
+
+/// Why the bodies cannot be built or moved.
+#[derive(Debug, thiserror::Error)]
+pub enum BodyError {
+    /// A body's shape cannot take contacts.
+    #[error("body `{name}`: {message}")]
+    Shape {
+        /// The body.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// One body: its wall particles and surface in its own frame, and its last motion.
+struct Body<const D: usize> {
+    name: String,
+    index: usize,
+    walls: Range<usize>,
+    position: Vec<Vector<D>>,
+    normal: Vec<Vector<D>>,
+    surface: Vec<LoadPoint<D>>,
+    motion: Motion<D>,
+    acceleration: Vector<D>,
+    force: Vector<D>,
+}
+
+/// Rigid bodies two-way coupled with the flow.
+///
+/// Each body is a set of dummy wall particles (the boundary treatment of the fixed walls,
+/// extended to moving walls as Adami, Hu & Adams 2012, §2.3, allow: the wall's velocity
+/// enters the no-slip mirror and its acceleration the pressure extrapolation). Once per
+/// step the flow's pressure is integrated over the body's surface ([`pressure_load`],
+/// hydrostatic extrapolation with g − a_body), rapier advances the body under that load,
+/// gravity and its contacts (Coulomb friction), and the wall particles follow rigidly:
+///
+/// x_w = x_c + R r_w,  n_w = R n_w⁰,  u_w = v_c + ω × R r_w,
+/// a_w = a_c + α × R r_w + ω × (ω × R r_w),
+///
+/// with a_c and α the step's mean linear and angular acceleration. The coupling is explicit
+/// (the body moves with the load at the end of the flow's step), stable while the body is
+/// not much lighter than the fluid it displaces.
+pub struct RigidBodies<const D: usize> {
+    world: World<D>,
+    bodies: Vec<Body<D>>,
+    coupling: Coupling<D>,
+    grid: CellGrid<D>,
+}
+
+impl<const D: usize> RigidBodies<D> {
+    /// The `bodies`, whose wall particles are in `walls` at their start, colliding with the
+    /// `fixed` obstacles and with each other.
+    pub fn new(
+        bodies: Vec<BodyDescription<D>>,
+        fixed: &[FixedShape<D>],
+        walls: &WallParticles<D>,
+        coupling: Coupling<D>,
+    ) -> Result<Self, BodyError> {
+        let mut world = World::new(&coupling.gravity);
+        for shape in fixed {
+            world.add_fixed(shape);
+        }
+        let mut built = Vec::with_capacity(bodies.len());
+        for body in bodies {
+            let mass = mass_properties(&body.interior, body.cell_volume, body.density);
+            let index = world
+                .add_body(&mass, &body.hull, body.friction)
+                .map_err(|message| BodyError::Shape {
+                    name: body.name.clone(),
+                    message: message.to_owned(),
+                })?;
+            let c = mass.centre;
+            built.push(Body {
+                index,
+                position: walls.position[body.walls.clone()]
+                    .iter()
+                    .map(|x| x - c)
+                    .collect(),
+                normal: walls.normal[body.walls.clone()].to_vec(),
+                surface: body
+                    .surface
+                    .iter()
+                    .map(|p| LoadPoint {
+                        position: p.position - c,
+                        ..*p
+                    })
+                    .collect(),
+                motion: world.motion(index),
+                acceleration: Vector::zeros(),
+                force: Vector::zeros(),
+                name: body.name,
+                walls: body.walls,
+            });
+        }
+        let radius = coupling.kernel.support_factor() * coupling.smoothing_length;
+        let grid = CellGrid::new(coupling.domain.clone(), radius)
+            .expect("the run's domain holds a grid of the kernel's support");
+        Ok(Self {
+            world,
+            bodies: built,
+            coupling,
+            grid,
+        })
+    }
+
+    /// The fluid's pressure force on each body at the last step (N; 2D: N/m).
+    pub fn fluid_forces(&self) -> impl Iterator<Item = Vector<D>> + '_ {
+        self.bodies.iter().map(|body| body.force)
+    }
+}
+
+/// m = ρ_b Σ V, the centre of the lattice points and I = Σ m_k (|r_k|² 1 − r_k r_kᵀ) plus each
+/// cell's own inertia (a cube or square of side a: m_k a²/6 about any axis through it).
+pub fn mass_properties<const D: usize>(
+    interior: &[Vector<D>],
+    cell_volume: Real,
+    density: Real,
+) -> MassProperties<D> {
+    let cell_mass = density * cell_volume;
+    let mass = cell_mass * interior.len() as Real;
+    let centre = interior.iter().sum::<Vector<D>>() / interior.len().max(1) as Real;
+    let side2 = cell_volume.powf(2.0 / D as Real);
+    let own = cell_mass * side2 / 6.0;
+    let mut inertia = geosph_core::Matrix::<3>::zeros();
+    for x in interior {
+        let r = Vector::<3>::from_fn(|k, _| if k < D { x[k] - centre[k] } else { 0.0 });
+        inertia += (geosph_core::Matrix::<3>::identity() * r.norm_squared() - r * r.transpose())
+            * cell_mass;
+    }
+    inertia += geosph_core::Matrix::<3>::identity() * (own * interior.len() as Real);
+    if D == 2 {
+        // Plane motion: I_zz only, where the world reads it.
+        inertia[(0, 0)] = inertia[(2, 2)];
+    }
+    MassProperties {
+        mass,
+        centre,
+        inertia,
+    }
+}
+
+/// The first D components of a 3-vector.
+fn lower<const D: usize>(v: &Vector<3>) -> Vector<D> {
+    Vector::<D>::from_fn(|k, _| v[k])
+}
+
+/// A D-vector as a 3-vector (z = 0 in 2D).
+fn lift<const D: usize>(v: &Vector<D>) -> Vector<3> {
+    Vector::<3>::from_fn(|k, _| if k < D { v[k] } else { 0.0 })
+}
+
+/// The pressure load on one body, with whichever kernel the scene names.
+struct Load<'a, const D: usize> {
+    field: FluidField<'a, D>,
+    body: &'a Body<D>,
+}
+
+impl<const D: usize> KernelVisitor<D> for Load<'_, D> {
+    type Output = (Vector<D>, Vector<3>);
+
+    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
+        let Motion {
+            centre, rotation, ..
+        } = self.body.motion;
+        let points = self.body.surface.iter().map(|p| LoadPoint {
+            position: centre + rotation * p.position,
+            normal: rotation * p.normal,
+            area: p.area,
+        });
+        pressure_load(&kernel, &self.field, points, &centre)
+    }
+}
+
+impl<const D: usize> WallMotion<D> for RigidBodies<D> {
+    fn advance(
+        &mut self,
+        dt: Real,
+        fluid: &Particles<D>,
+        walls: &mut WallParticles<D>,
+    ) -> Result<(), String> {
+        let pressure = fluid
+            .pressure
+            .as_deref()
+            .ok_or("rigid bodies need the fluid's pressure")?;
+        self.grid
+            .build(&fluid.position)
+            .map_err(|error| error.to_string())?;
+        let Coupling {
+            kernel,
+            smoothing_length,
+            gravity,
+            ..
+        } = &self.coupling;
+        for body in &mut self.bodies {
+            let field = FluidField {
+                fluid,
+                pressure,
+                grid: &self.grid,
+                gravity: gravity - body.acceleration,
+            };
+            let (force, torque) = kernel.dispatch(*smoothing_length, Load { field, body });
+            body.force = force;
+            self.world.set_load(body.index, &force, &torque);
+        }
+        self.world.step(dt);
+        for body in &mut self.bodies {
+            let before = body.motion;
+            let now = self.world.motion(body.index);
+            let acceleration = (now.velocity - before.velocity) / dt;
+            let angular = (now.spin - before.spin) / dt;
+            if !(now
+                .centre
+                .iter()
+                .chain(&now.velocity)
+                .all(|x| x.is_finite()))
+            {
+                return Err(format!(
+                    "body `{}` reached a non-finite position or velocity",
+                    body.name
+                ));
+            }
+            let range = body.walls.clone();
+            for (k, w) in range.enumerate() {
+                let r = now.rotation * body.position[k];
+                let spin_r = now.spin.cross(&lift(&r));
+                let turning = angular.cross(&lift(&r)) + now.spin.cross(&spin_r);
+                walls.position[w] = now.centre + r;
+                walls.normal[w] = now.rotation * body.normal[k];
+                walls.velocity[w] = now.velocity + lower::<D>(&spin_r);
+                walls.acceleration[w] = acceleration + lower::<D>(&turning);
+            }
+            body.motion = now;
+            body.acceleration = acceleration;
+        }
+        Ok(())
+    }
+
+    fn columns(&self) -> Vec<String> {
+        let axes = ["x", "y", "z"];
+        let mut columns = Vec::new();
+        for body in &self.bodies {
+            let name = &body.name;
+            columns.extend(axes[..D].iter().map(|a| format!("{name}_{a}")));
+            if D == 2 {
+                columns.push(format!("{name}_angle"));
+            } else {
+                columns.extend(axes.iter().map(|a| format!("{name}_r{a}")));
+            }
+            columns.extend(axes[..D].iter().map(|a| format!("{name}_v{a}")));
+            columns.extend(axes[..D].iter().map(|a| format!("{name}_F{a}")));
+        }
+        columns
+    }
+
+    fn sample(&self, row: &mut Vec<Real>) {
+        for body in &self.bodies {
+            let motion = &body.motion;
+            row.extend(motion.centre.iter());
+            if D == 2 {
+                row.push(motion.angle[2]);
+            } else {
+                row.extend(motion.angle.iter());
+            }
+            row.extend(motion.velocity.iter());
+            row.extend(body.force.iter());
+        }
+    }
+}

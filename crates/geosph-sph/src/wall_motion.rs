@@ -1,0 +1,29 @@
+//! Walls that move with the flow: rigid bodies, advanced by the solver once per step.
+
+use geosph_boundary::WallParticles;
+use geosph_core::{Particles, Real};
+
+/// Walls a solver moves once per step, after the flow has advanced and before its neighbour
+/// lists are next built (`geosph-bodies`' rigid bodies, two-way coupled: the flow's pressure
+/// moves them, their wall particles hold the flow).
+///
+/// A solver that supports it takes one through [`Solver::set_wall_motion`](crate::Solver) and
+/// calls [`WallMotion::advance`] at the end of each step with the step's Δt and the flow at
+/// its end; the implementation rewrites the position, normal, velocity and acceleration of
+/// the wall particles it owns and leaves the others alone.
+pub trait WallMotion<const D: usize>: Send {
+    /// Advances the walls over the step `dt` that brought the flow to `fluid` (with the
+    /// pressure of the step's end).
+    fn advance(
+        &mut self,
+        dt: Real,
+        fluid: &Particles<D>,
+        walls: &mut WallParticles<D>,
+    ) -> Result<(), String>;
+
+    /// The names of the figures [`WallMotion::sample`] appends to a diagnostics row.
+    fn columns(&self) -> Vec<String>;
+
+    /// Appends the current figures (positions, velocities, loads) to `row`.
+    fn sample(&self, row: &mut Vec<Real>);
+}
