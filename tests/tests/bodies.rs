@@ -3,11 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
-use geosph_core::{Particles, Real};
+use geosph_core::{Particles, Real, Vector};
+use geosph_geometry::primitives;
 use geosph_runner::{Observer, RunOptions};
 use geosph_scene::Scene;
 
-use crate::geometry::{mean_columns, scratch};
+use crate::geometry::{mean_columns, scratch, write_obj};
 
 /// The free-surface height of the water between x = `from` and `to`, for the draft of a
 /// floating body: in each particle column of width dx the highest particle plus dx/2, averaged
@@ -101,5 +102,188 @@ fn a_floating_box_settles_at_the_archimedes_draft() {
     assert!(
         (force / weight - 1.0).abs() < 0.02,
         "force {force} against {weight}"
+    );
+}
+
+/// A 0.2 m × 0.1 m block lying on the 30° slope `a` m down from its top, 0.25 dx above it,
+/// as an OBJ box in `folder/<name>.obj`.
+fn block_on_slope(folder: &Path, name: &str, along: Real, dx: Real) {
+    let (sin, cos) = (SLOPE.sin(), SLOPE.cos());
+    let base = Vector::<2>::new(along * cos, TOP - along * sin);
+    let normal = Vector::<2>::new(sin, cos);
+    let centre = base + normal * (0.25 * dx);
+    let mut mesh = primitives::cuboid(
+        &Vector::<3>::new(-0.1, -0.2, 0.0),
+        &Vector::<3>::new(0.1, 0.2, 0.1),
+    );
+    for v in &mut mesh.vertices {
+        let (a, c) = (v[0], v[2]);
+        *v = Vector::<3>::new(
+            centre[0] + a * cos + c * sin,
+            v[1],
+            centre[1] - a * sin + c * cos,
+        );
+    }
+    write_obj(&mesh, &folder.join(format!("{name}.obj")));
+}
+
+/// The slope's angle and the height of its top at x = 0.
+const SLOPE: Real = std::f64::consts::PI / 6.0;
+const TOP: Real = 1.0;
+
+/// Issue 23's bar: a body released on a slope with Coulomb friction follows the analytic
+/// sliding motion within 2 %. Two blocks lie on a 30° polyline slope (dx = 0.02 m, a pool
+/// of water at its foot so the scene has a fluid): one with μ = 0.2 < tan 30° slides with
+/// a = g (sin θ − μ cos θ) = 3.206 m/s², one with μ = 0.7 > tan 30° stays where it is.
+/// The sliding block's acceleration along the slope between t = 0.1 s and 0.4 s (after it
+/// settled onto the slope from 0.25 dx above it) and its travel over that time are compared
+/// with the closed form.
+#[test]
+fn a_block_on_a_slope_slides_as_coulomb_friction_says() {
+    let folder = scratch("bodies-slope");
+    let dx = 0.02;
+    block_on_slope(&folder, "sliding", 0.6, dx);
+    block_on_slope(&folder, "sticking", 0.2, dx);
+    let foot = TOP / SLOPE.tan();
+    let scene = format!(
+        r#"Scene(
+        name: "slope", dimension: 2, dx: {dx}, end_time: 0.4,
+        output: (interval: 0.4, sample_interval: 0.01, vtk: false),
+        fluid: (blocks: [Box(min: [2.0, 0.0], max: [2.5, 0.2])]),
+        walls: [Tank(min: [0.0, 0.0], max: [2.5, 1.5]),
+                Polyline(points: [(0.0, {TOP}), ({foot}, 0.0)])],
+        bodies: [
+            (name: "sliding", shape: Mesh(file: "sliding.obj"), density: 2000.0, friction: 0.2),
+            (name: "sticking", shape: Mesh(file: "sticking.obj"), density: 2000.0, friction: 0.7),
+        ],
+        solver: Wcsph(()),
+    )"#
+    );
+    let out = run(&scene, &folder, &mut geosph_runner::NoObserver);
+    let down = Vector::<2>::new(SLOPE.cos(), -SLOPE.sin());
+    let state = |name: &str, time: Real| {
+        let [x, y, vx, vy] = columns_at(&out, name, time);
+        (
+            Vector::<2>::new(x, y).dot(&down),
+            Vector::<2>::new(vx, vy).dot(&down),
+        )
+    };
+    let g = 9.81;
+    let expected = g * (SLOPE.sin() - 0.2 * SLOPE.cos());
+    let (s1, v1) = state("sliding", 0.1);
+    let (s2, v2) = state("sliding", 0.4);
+    let acceleration = (v2 - v1) / 0.3;
+    let travel = s2 - s1;
+    let expected_travel = v1 * 0.3 + 0.5 * expected * 0.09;
+    println!(
+        "sliding block: a = {acceleration:.4} m/s² against {expected:.4}, travel {travel:.4} m \
+         against {expected_travel:.4}"
+    );
+    assert!(
+        (acceleration / expected - 1.0).abs() < 0.02,
+        "acceleration {acceleration} against {expected}"
+    );
+    assert!(
+        (travel / expected_travel - 1.0).abs() < 0.02,
+        "travel {travel} against {expected_travel}"
+    );
+    let (start, _) = state("sticking", 0.0);
+    let (end, speed) = state("sticking", 0.4);
+    println!(
+        "sticking block: moved {:.2e} m, speed {speed:.2e} m/s",
+        end - start
+    );
+    // It falls straight down onto the slope, 0.25 dx/cos θ, which is 0.25 dx tan θ along it,
+    // and then holds.
+    let fall = 0.25 * dx * SLOPE.tan();
+    assert!((end - start).abs() < 1.02 * fall, "moved {}", end - start);
+    assert!(speed.abs() < 1e-3, "speed {speed}");
+}
+
+/// A body's x, y, vx, vy in the `diagnostics.csv` row at `time`.
+fn columns_at(out: &Path, name: &str, time: Real) -> [Real; 4] {
+    let text = std::fs::read_to_string(out.join("diagnostics.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |c: &str| {
+        let c = format!("{name}_{c}");
+        header.iter().position(|h| *h == c).unwrap()
+    };
+    let row: Vec<Real> = lines
+        .map(|line| {
+            line.split(',')
+                .map(|x| x.parse().unwrap())
+                .collect::<Vec<Real>>()
+        })
+        .find(|row| (row[0] - time).abs() < 1e-9)
+        .unwrap();
+    ["x", "y", "vx", "vy"].map(|c| row[column(c)])
+}
+
+/// Bad bodies are refused before any work, naming the body and the problem.
+#[test]
+fn bad_bodies_are_refused_naming_the_body() {
+    let folder = scratch("bodies-bad");
+    let scene = |bodies: &str, solver: &str| {
+        let mut scene = Scene::from_ron(&format!(
+            r#"Scene(name: "bad", dimension: 2, dx: 0.02, end_time: 0.1,
+                fluid: (blocks: [Box(min: [0.0, 0.0], max: [0.4, 0.2])]),
+                walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0])],
+                bodies: [{bodies}], solver: {solver})"#
+        ))
+        .unwrap();
+        scene.folder = Some(folder.clone());
+        scene
+    };
+    let refused = |bodies: &str, solver: &str| {
+        let scene = scene(bodies, solver);
+        match geosph_scene::build::<2>(&scene) {
+            Ok(_) => panic!("accepted: {bodies}"),
+            Err(error) => error.to_string(),
+        }
+    };
+    let wcsph = "Wcsph(())";
+    let message = refused(
+        r#"(name: "b", shape: Box(min: [0.6, -0.02], max: [0.8, 0.2]), density: 500.0)"#,
+        wcsph,
+    );
+    assert!(
+        message.contains("bodies[0]") && message.contains("overlapping walls[0]"),
+        "{message}"
+    );
+    let message = refused(
+        r#"(name: "b", shape: Box(min: [0.3, 0.1], max: [0.5, 0.3]), density: 500.0)"#,
+        wcsph,
+    );
+    assert!(
+        message.contains("bodies[0]") && message.contains("overlaps"),
+        "{message}"
+    );
+    let message = refused(
+        r#"(name: "b", shape: Mesh(file: "missing.obj"), density: 500.0)"#,
+        wcsph,
+    );
+    assert!(
+        message.contains("bodies[0]") && message.contains("missing.obj"),
+        "{message}"
+    );
+    let message = refused(
+        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: -1.0)"#,
+        wcsph,
+    );
+    assert!(message.contains("bodies[0].density"), "{message}");
+    let message = refused(
+        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: 500.0),
+           (name: "b", shape: Box(min: [0.6, 0.5], max: [0.8, 0.7]), density: 500.0)"#,
+        wcsph,
+    );
+    assert!(message.contains("bodies[1].name"), "{message}");
+    let message = refused(
+        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: 500.0)"#,
+        "Soil(())",
+    );
+    assert!(
+        message.contains("bodies") && message.contains("fluid solver"),
+        "{message}"
     );
 }

@@ -1,137 +1,18 @@
-//! Rigid bodies of a scene: their format, validation, and the dummy particles, interior and
-//! surface each is built from (`geosph-bodies` moves them).
+//! Rigid bodies of a scene: the dummy particles, interior and surface each is built from
+//! (`geosph-bodies` moves them), and the walls they collide with.
 
 use geosph_bodies::{BodyDescription, FixedShape};
 use geosph_boundary::WallParticles;
 use geosph_core::{Real, Vector};
 use geosph_geometry::{Section, Solid, SurfaceMesh, SurfacePoint, WallSite, WallSurface};
 use geosph_sph::surface_load::LoadPoint;
-use serde::{Deserialize, Serialize};
 
+use crate::body_spec::{BodyShape, BodySpec};
+use crate::checks::fail;
 use crate::error::SceneError;
-use crate::format::{Scene, SolverSpec};
+use crate::format::Scene;
 use crate::initial::vector;
 use crate::regions::{check_size, read_mesh};
-use crate::validate::{MAX_NAME_LENGTH, boxed, fail, in_range, mesh_placement, plain_name};
-
-/// A rigid body: dummy wall particles that move with it, pushed by the fluid's pressure and
-/// held by gravity and its contacts with the walls and the other bodies.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BodySpec {
-    /// Its name, for the diagnostics' columns (`<name>_x`, …).
-    pub name: String,
-    /// Its shape, closed.
-    pub shape: BodyShape,
-    /// Density ρ_b in kg/m³ (its mass is ρ_b times its volume; 2D: per metre).
-    pub density: Real,
-    /// Coulomb friction coefficient of its contacts with walls and bodies (default 0.5).
-    #[serde(default = "default_friction")]
-    pub friction: Real,
-    /// Thickness of its dummy particles in lattice spacings (default 3; at least support
-    /// radius / dx).
-    #[serde(default = "default_layers")]
-    pub layers: usize,
-}
-
-fn default_friction() -> Real {
-    0.5
-}
-
-fn default_layers() -> usize {
-    3
-}
-
-/// The shape of a body at t = 0.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum BodyShape {
-    /// The box [min, max].
-    Box {
-        /// Lower corner.
-        min: Vec<Real>,
-        /// Upper corner.
-        max: Vec<Real>,
-    },
-    /// A closed surface mesh (`.stl`, `.obj`), placed as a mesh region is; in 2D its section
-    /// y = `section`.
-    Mesh {
-        /// The mesh file, relative to the scene file's folder.
-        file: String,
-        /// Scale factor (default 1).
-        #[serde(default = "default_scale")]
-        scale: Real,
-        /// Offset after scaling, one number per scene dimension (default zero).
-        #[serde(default)]
-        offset: Vec<Real>,
-        /// 2D scenes: the mesh's y of the section plane (default 0).
-        #[serde(default)]
-        section: Real,
-    },
-}
-
-fn default_scale() -> Real {
-    1.0
-}
-
-/// Checks the scene's `bodies`.
-pub(crate) fn validate(scene: &Scene) -> Result<(), SceneError> {
-    if !scene.bodies.is_empty() && matches!(scene.solver, SolverSpec::Soil(_)) {
-        return Err(fail(
-            "bodies",
-            "rigid bodies are moved by the fluid's pressure and need a fluid solver (wcsph, \
-             pcisph, iisph or dfsph)",
-        ));
-    }
-    for (k, body) in scene.bodies.iter().enumerate() {
-        let field = format!("bodies[{k}]");
-        if !plain_name(&body.name) {
-            return Err(fail(
-                format!("{field}.name"),
-                format!(
-                    "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.', as it \
-                     names CSV columns; got {:?}",
-                    body.name
-                ),
-            ));
-        }
-        if scene.bodies[..k]
-            .iter()
-            .any(|other| other.name == body.name)
-        {
-            return Err(fail(
-                format!("{field}.name"),
-                format!("must be unique, {:?} is used twice", body.name),
-            ));
-        }
-        in_range(&format!("{field}.density"), body.density, 1.0, 1e5)?;
-        in_range(&format!("{field}.friction"), body.friction, 0.0, 10.0)?;
-        if !(1..=10).contains(&body.layers) {
-            return Err(fail(
-                format!("{field}.layers"),
-                format!("must be 1 to 10, got {}", body.layers),
-            ));
-        }
-        match &body.shape {
-            BodyShape::Box { min, max } => {
-                boxed(&format!("{field}.shape"), min, max, scene.dimension)?
-            }
-            BodyShape::Mesh {
-                file,
-                scale,
-                offset,
-                section,
-            } => mesh_placement(
-                &format!("{field}.shape"),
-                file,
-                *scale,
-                offset,
-                *section,
-                scene.dimension,
-            )?,
-        }
-    }
-    Ok(())
-}
 
 /// The closed mesh of a body's shape and the section plane a 2D scene cuts it with.
 fn shape_mesh<const D: usize>(

@@ -42,7 +42,7 @@ pub struct Scene {
     pub walls: Vec<WallSpec>,
     /// Rigid bodies moved by the fluid (default none).
     #[serde(default)]
-    pub bodies: Vec<crate::bodies::BodySpec>,
+    pub bodies: Vec<crate::body_spec::BodySpec>,
     /// The solver and its parameters.
     pub solver: SolverSpec,
     /// Limits of the blow-up checks.

@@ -11,6 +11,9 @@
 //! - [`setup`]: particles, walls, domain, smoothing length and sound speed of a scene; the
 //!   fluid's blocks (boxes, polygons, closed meshes) are filled as one union, each lattice
 //!   site once ([`BlockReport`]).
+//! - [`body_spec`]: the scene's rigid bodies ([`BodySpec`]) and their checks; [`bodies`]: each
+//!   body's dummy particles, interior, surface and contact hull, and the walls as the bodies
+//!   collide with them.
 //!
 //! # Example
 //!
@@ -39,6 +42,8 @@
 #![warn(missing_docs)]
 
 pub mod bodies;
+pub mod body_spec;
+mod checks;
 mod error;
 pub mod format;
 mod initial;
@@ -47,7 +52,7 @@ mod regions;
 pub mod setup;
 pub mod validate;
 
-pub use bodies::{BodyShape, BodySpec};
+pub use body_spec::{BodyShape, BodySpec};
 pub use format::{
     FluidSpec, HealthSpec, InitialVelocity, LoadSpec, OutputSpec, ProbeSpec, Region, Scene,
     SolverSpec, SurfaceSpec, WallSpec,

@@ -3,15 +3,9 @@
 use geosph_core::Real;
 use geosph_kernels::KernelKind;
 
+use crate::checks::{boxed, fail, in_range, mesh_placement, plain_name, point, positive};
 pub use crate::error::SceneError;
 use crate::format::{FluidSpec, InitialVelocity, Region, Scene, SolverSpec, WallSpec};
-
-pub(crate) fn fail(field: impl Into<String>, message: impl Into<String>) -> SceneError {
-    SceneError::Field {
-        field: field.into(),
-        message: message.into(),
-    }
-}
 
 /// Most particles (fluid and wall, estimated from the regions before any is made) a scene may
 /// ask for: about 10 GB of particle fields and neighbour lists. A larger count almost always
@@ -27,59 +21,7 @@ pub const MAX_FRAMES: Real = 1.0e5;
 /// Most diagnostic samples a run may take (`end_time / output.sample_interval`).
 pub const MAX_SAMPLES: Real = 1.0e7;
 
-/// Longest scene name (it becomes part of output file names).
-pub const MAX_NAME_LENGTH: usize = 100;
-
-pub(crate) fn positive(field: &str, value: Real) -> Result<(), SceneError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(fail(
-            field,
-            format!("must be a finite number > 0, got {value}"),
-        ))
-    }
-}
-
-pub(crate) fn in_range(field: &str, value: Real, low: Real, high: Real) -> Result<(), SceneError> {
-    if value.is_finite() && value >= low && value <= high {
-        Ok(())
-    } else {
-        Err(fail(
-            field,
-            format!("must lie in [{low}, {high}], got {value}"),
-        ))
-    }
-}
-
-/// 1 to [`MAX_NAME_LENGTH`] ASCII letters, digits, '-', '_' or '.': safe in a file name and
-/// in a CSV header.
-pub(crate) fn plain_name(name: &str) -> bool {
-    !name.is_empty()
-        && name.len() <= MAX_NAME_LENGTH
-        && name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
-}
-
-fn point(field: &str, values: &[Real], dimension: usize) -> Result<(), SceneError> {
-    if values.len() != dimension {
-        return Err(fail(
-            field,
-            format!(
-                "needs {dimension} coordinates (the scene's dimension), got {}",
-                values.len()
-            ),
-        ));
-    }
-    if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-        return Err(fail(
-            field,
-            format!("coordinates must be finite, got {bad}"),
-        ));
-    }
-    Ok(())
-}
+pub use crate::checks::MAX_NAME_LENGTH;
 
 fn finite_pairs(field: &str, values: &[(Real, Real)]) -> Result<(), SceneError> {
     if let Some((index, &(x, y))) = values
@@ -102,53 +44,6 @@ fn lattice_points(min: &[Real], max: &[Real], dx: Real, pad: Real) -> Real {
         .zip(max)
         .map(|(a, b)| ((b - a) / dx).ceil() + 2.0 * pad)
         .product()
-}
-
-/// The file and placement of a mesh region or wall.
-pub(crate) fn mesh_placement(
-    field: &str,
-    file: &str,
-    scale: Real,
-    offset: &[Real],
-    section: Real,
-    dimension: usize,
-) -> Result<(), SceneError> {
-    if file.trim().is_empty() {
-        return Err(fail(format!("{field}.file"), "names no file"));
-    }
-    positive(&format!("{field}.scale"), scale)?;
-    if !offset.is_empty() {
-        point(&format!("{field}.offset"), offset, dimension)?;
-    }
-    if !section.is_finite() || (dimension == 3 && section != 0.0) {
-        return Err(fail(
-            format!("{field}.section"),
-            format!("is the section plane of a 2D scene: finite there, unset in 3D; got {section}"),
-        ));
-    }
-    Ok(())
-}
-
-pub(crate) fn boxed(
-    field: &str,
-    min: &[Real],
-    max: &[Real],
-    dimension: usize,
-) -> Result<(), SceneError> {
-    point(&format!("{field}.min"), min, dimension)?;
-    point(&format!("{field}.max"), max, dimension)?;
-    for k in 0..dimension {
-        if min[k] >= max[k] {
-            return Err(fail(
-                format!("{field}.max"),
-                format!(
-                    "must exceed min on axis {k}: min = {}, max = {}",
-                    min[k], max[k]
-                ),
-            ));
-        }
-    }
-    Ok(())
 }
 
 impl Scene {
@@ -287,7 +182,11 @@ impl Scene {
         }
         self.validate_probes(dimension)?;
         self.validate_loads(dimension)?;
-        crate::bodies::validate(self)?;
+        crate::body_spec::validate(
+            &self.bodies,
+            dimension,
+            matches!(self.solver, SolverSpec::Soil(_)),
+        )?;
         if let Some(surface) = &self.output.surface {
             if dimension != 3 {
                 return Err(fail(

@@ -126,8 +126,11 @@ mod tests {
         let expected = -normal * (rho * g * 0.5 * 0.4);
         approx::assert_relative_eq!(force, expected, max_relative = 1e-9);
         // The pressure varies linearly along the plate: a moment about its centre of
-        // ρ g sin30° L³/12 (the upper end is pushed less).
-        let expected_moment = rho * g * 0.5 * 0.4_f64.powi(3) / 12.0;
+        // ρ g sin30° ∫ s² ds (the upper end is pushed less), which the midpoint rule of
+        // pieces Δs sums as L³/12 − L Δs²/12.
+        let (length, piece): (Real, Real) = (0.4, 0.4 / pieces as Real);
+        let expected_moment =
+            rho * g * 0.5 * (length.powi(3) / 12.0 - length * piece * piece / 12.0);
         approx::assert_relative_eq!(moment[2], expected_moment, max_relative = 1e-6);
     }
 }
