@@ -38,6 +38,27 @@ impl<const D: usize> Observer<D> for WaterLevel {
     }
 }
 
+/// The floating box of [`a_floating_box_settles_at_the_archimedes_draft`] run to `end_time`
+/// with frames every `interval`.
+pub(crate) fn float_scene(end_time: Real, interval: Real) -> String {
+    format!(
+        r#"Scene(
+        name: "float", dimension: 2, dx: 0.02, end_time: {end_time},
+        output: (interval: {interval}, sample_interval: 0.01, vtk: {vtk}),
+        fluid: (blocks: [
+            Box(min: [0.0, 0.0], max: [0.3, 0.4]),
+            Box(min: [0.7, 0.0], max: [1.0, 0.4]),
+            Box(min: [0.3, 0.0], max: [0.7, 0.32]),
+        ]),
+        walls: [Tank(min: [0.0, 0.0], max: [1.0, 0.8])],
+        bodies: [(name: "box", shape: Box(min: [0.3, 0.32], max: [0.7, 0.52]),
+                  density: 500.0, friction: 0.0)],
+        solver: Wcsph(()),
+    )"#,
+        vtk = interval < end_time
+    )
+}
+
 fn run<O>(scene: &str, folder: &Path, observer: &mut O) -> PathBuf
 where
     O: Observer<2> + Observer<3> + Send,
@@ -63,25 +84,13 @@ where
 #[test]
 fn a_floating_box_settles_at_the_archimedes_draft() {
     let folder = scratch("bodies-float");
-    let scene = r#"Scene(
-        name: "float", dimension: 2, dx: 0.02, end_time: 4.0,
-        output: (interval: 4.0, sample_interval: 0.01, vtk: false),
-        fluid: (blocks: [
-            Box(min: [0.0, 0.0], max: [0.3, 0.4]),
-            Box(min: [0.7, 0.0], max: [1.0, 0.4]),
-            Box(min: [0.3, 0.0], max: [0.7, 0.32]),
-        ]),
-        walls: [Tank(min: [0.0, 0.0], max: [1.0, 0.8])],
-        bodies: [(name: "box", shape: Box(min: [0.3, 0.32], max: [0.7, 0.52]),
-                  density: 500.0, friction: 0.0)],
-        solver: Wcsph(()),
-    )"#;
+    let scene = float_scene(4.0, 4.0);
     let mut level = WaterLevel {
         from: 0.04,
         to: 0.24,
         dx: 0.02,
     };
-    let out = run(scene, &folder, &mut level);
+    let out = run(&scene, &folder, &mut level);
     let [height, centre, angle, force] =
         mean_columns(&out, &["level", "box_y", "box_angle", "box_Fy"], 2.0)[..]
     else {
@@ -103,6 +112,30 @@ fn a_floating_box_settles_at_the_archimedes_draft() {
         (force / weight - 1.0).abs() < 0.02,
         "force {force} against {weight}"
     );
+}
+
+/// The two blocks of [`a_block_on_a_slope_slides_as_coulomb_friction_says`] on their slope,
+/// meshes written into `folder`, run to `end_time` with frames every `interval`.
+pub(crate) fn slope_scene(folder: &Path, end_time: Real, interval: Real) -> String {
+    let dx = 0.02;
+    block_on_slope(folder, "sliding", 0.6, dx);
+    block_on_slope(folder, "sticking", 0.2, dx);
+    let foot = TOP / SLOPE.tan();
+    format!(
+        r#"Scene(
+        name: "slope", dimension: 2, dx: {dx}, end_time: {end_time},
+        output: (interval: {interval}, sample_interval: 0.01, vtk: {vtk}),
+        fluid: (blocks: [Box(min: [2.0, 0.0], max: [2.5, 0.2])]),
+        walls: [Tank(min: [0.0, 0.0], max: [2.5, 1.5]),
+                Polyline(points: [(0.0, {TOP}), ({foot}, 0.0)])],
+        bodies: [
+            (name: "sliding", shape: Mesh(file: "sliding.obj"), density: 2000.0, friction: 0.2),
+            (name: "sticking", shape: Mesh(file: "sticking.obj"), density: 2000.0, friction: 0.7),
+        ],
+        solver: Wcsph(()),
+    )"#,
+        vtk = interval < end_time
+    )
 }
 
 /// A 0.2 m × 0.1 m block lying on the 30° slope `a` m down from its top, 0.25 dx above it,
@@ -142,23 +175,7 @@ const TOP: Real = 1.0;
 fn a_block_on_a_slope_slides_as_coulomb_friction_says() {
     let folder = scratch("bodies-slope");
     let dx = 0.02;
-    block_on_slope(&folder, "sliding", 0.6, dx);
-    block_on_slope(&folder, "sticking", 0.2, dx);
-    let foot = TOP / SLOPE.tan();
-    let scene = format!(
-        r#"Scene(
-        name: "slope", dimension: 2, dx: {dx}, end_time: 0.4,
-        output: (interval: 0.4, sample_interval: 0.01, vtk: false),
-        fluid: (blocks: [Box(min: [2.0, 0.0], max: [2.5, 0.2])]),
-        walls: [Tank(min: [0.0, 0.0], max: [2.5, 1.5]),
-                Polyline(points: [(0.0, {TOP}), ({foot}, 0.0)])],
-        bodies: [
-            (name: "sliding", shape: Mesh(file: "sliding.obj"), density: 2000.0, friction: 0.2),
-            (name: "sticking", shape: Mesh(file: "sticking.obj"), density: 2000.0, friction: 0.7),
-        ],
-        solver: Wcsph(()),
-    )"#
-    );
+    let scene = slope_scene(&folder, 0.4, 0.4);
     let out = run(&scene, &folder, &mut geosph_runner::NoObserver);
     let down = Vector::<2>::new(SLOPE.cos(), -SLOPE.sin());
     let state = |name: &str, time: Real| {

@@ -307,3 +307,21 @@ fn bad_restart_files_are_refused_with_one_line() {
     let error = restart_with(&root.join("missing.bin"), &scene);
     assert!(error.contains("missing.bin"), "{error}");
 }
+
+/// Rigid bodies continue bitwise after a restart: their rapier world (contacts and their warm
+/// start included) and accelerations are in the checkpoint. The floating box with WCSPH and
+/// DFSPH, and the blocks on the slope (contacts, friction) with WCSPH.
+#[test]
+fn a_restart_with_rigid_bodies_matches_the_uninterrupted_run_bitwise() {
+    let floating = crate::bodies::float_scene(0.3, 0.05);
+    for solver in ["wcsph", "dfsph"] {
+        let mut scene = Scene::from_ron(&floating).unwrap();
+        scene.solver = SolverSpec::from_name(solver).unwrap();
+        assert_restart_is_bitwise(&scene, &format!("float-{solver}"), || NoObserver, 0.15);
+    }
+    let meshes = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-slope-meshes");
+    std::fs::create_dir_all(&meshes).unwrap();
+    let mut scene = Scene::from_ron(&crate::bodies::slope_scene(&meshes, 0.3, 0.05)).unwrap();
+    scene.folder = Some(meshes);
+    assert_restart_is_bitwise(&scene, "slope", || NoObserver, 0.15);
+}

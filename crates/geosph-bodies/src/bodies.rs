@@ -70,8 +70,27 @@ struct Body<const D: usize> {
     normal: Vec<Vector<D>>,
     surface: Vec<LoadPoint<D>>,
     motion: Motion<D>,
+    /// The step's mean linear and angular acceleration.
     acceleration: Vector<D>,
+    angular: Vector<3>,
     force: Vector<D>,
+}
+
+impl<const D: usize> Body<D> {
+    /// Puts its wall particles where its motion has them, with the velocity and acceleration
+    /// of those points of the body.
+    fn place(&self, walls: &mut WallParticles<D>) {
+        let now = &self.motion;
+        for (k, w) in self.walls.clone().enumerate() {
+            let r = now.rotation * self.position[k];
+            let spin_r = now.spin.cross(&lift(&r));
+            let turning = self.angular.cross(&lift(&r)) + now.spin.cross(&spin_r);
+            walls.position[w] = now.centre + r;
+            walls.normal[w] = now.rotation * self.normal[k];
+            walls.velocity[w] = now.velocity + lower::<D>(&spin_r);
+            walls.acceleration[w] = self.acceleration + lower::<D>(&turning);
+        }
+    }
 }
 
 /// Rigid bodies two-way coupled with the flow.
@@ -136,6 +155,7 @@ impl<const D: usize> RigidBodies<D> {
                     .collect(),
                 motion: world.motion(index),
                 acceleration: Vector::zeros(),
+                angular: Vector::zeros(),
                 force: Vector::zeros(),
                 name: body.name,
                 walls: body.walls,
@@ -253,10 +273,7 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
         }
         self.world.step(dt);
         for body in &mut self.bodies {
-            let before = body.motion;
             let now = self.world.motion(body.index);
-            let acceleration = (now.velocity - before.velocity) / dt;
-            let angular = (now.spin - before.spin) / dt;
             if !(now
                 .centre
                 .iter()
@@ -268,18 +285,48 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
                     body.name
                 ));
             }
-            let range = body.walls.clone();
-            for (k, w) in range.enumerate() {
-                let r = now.rotation * body.position[k];
-                let spin_r = now.spin.cross(&lift(&r));
-                let turning = angular.cross(&lift(&r)) + now.spin.cross(&spin_r);
-                walls.position[w] = now.centre + r;
-                walls.normal[w] = now.rotation * body.normal[k];
-                walls.velocity[w] = now.velocity + lower::<D>(&spin_r);
-                walls.acceleration[w] = acceleration + lower::<D>(&turning);
-            }
+            body.acceleration = (now.velocity - body.motion.velocity) / dt;
+            body.angular = (now.spin - body.motion.spin) / dt;
             body.motion = now;
-            body.acceleration = acceleration;
+            body.place(walls);
+        }
+        Ok(())
+    }
+
+    fn save_state(&self) -> Vec<u8> {
+        let bodies: Vec<Real> = self
+            .bodies
+            .iter()
+            .flat_map(|body| {
+                let figures = body
+                    .acceleration
+                    .iter()
+                    .chain(&body.angular)
+                    .chain(&body.force);
+                figures.copied().collect::<Vec<_>>()
+            })
+            .collect();
+        postcard::to_allocvec(&(self.world.save_state(), bodies)).expect("bodies serialize")
+    }
+
+    fn restore_state(&mut self, state: &[u8], walls: &mut WallParticles<D>) -> Result<(), String> {
+        let (world, figures): (Vec<u8>, Vec<Real>) = postcard::from_bytes(state)
+            .map_err(|e| format!("the bodies' state does not load: {e}"))?;
+        let per_body = 2 * D + 3;
+        if figures.len() != per_body * self.bodies.len() {
+            return Err(format!(
+                "the checkpoint holds {} bodies, the scene {}",
+                figures.len() / per_body,
+                self.bodies.len()
+            ));
+        }
+        self.world.restore_state(&world)?;
+        for (body, figures) in self.bodies.iter_mut().zip(figures.chunks_exact(per_body)) {
+            body.acceleration = Vector::<D>::from_column_slice(&figures[..D]);
+            body.angular = Vector::<3>::from_column_slice(&figures[D..D + 3]);
+            body.force = Vector::<D>::from_column_slice(&figures[D + 3..]);
+            body.motion = self.world.motion(body.index);
+            body.place(walls);
         }
         Ok(())
     }

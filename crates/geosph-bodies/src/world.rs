@@ -226,6 +226,26 @@ impl<const D: usize> World<D> {
         }
     }
 
+    /// The engine's complete state (bodies, colliders, contacts and their warm start), for a
+    /// checkpoint: a world restored from it steps on bitwise as this one.
+    pub fn save_state(&self) -> Vec<u8> {
+        let bytes = match &self.engine {
+            Engine::Plane(world) => postcard::to_allocvec(world.as_ref()),
+            Engine::Space(world) => postcard::to_allocvec(world.as_ref()),
+        };
+        bytes.expect("rapier's world serializes")
+    }
+
+    /// Continues from `state`, saved by [`World::save_state`] of a world built the same way.
+    pub fn restore_state(&mut self, state: &[u8]) -> Result<(), String> {
+        let error = |e: postcard::Error| format!("the rigid-body world does not load: {e}");
+        match &mut self.engine {
+            Engine::Plane(world) => **world = postcard::from_bytes(state).map_err(error)?,
+            Engine::Space(world) => **world = postcard::from_bytes(state).map_err(error)?,
+        }
+        Ok(())
+    }
+
     /// Where body `index` is and how it moves.
     pub fn motion(&self, index: usize) -> Motion<D> {
         match &self.engine {

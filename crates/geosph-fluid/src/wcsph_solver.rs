@@ -5,7 +5,7 @@ use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_sph::{
     Solver, SolverError, SolverState, StepReport, WallMotion, density_errors, event_step,
-    keep_out_of_walls, max_speed,
+    keep_out_of_walls, max_speed, restore_wall_motion,
 };
 use geosph_time::{Integrator, Rates, StepLimits, time_step};
 
@@ -151,6 +151,10 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         if let Some(listed) = self.system.lists.listed_positions() {
             arrays.push_matrices("listed_position", listed);
         }
+        if let Some(listed) = self.system.lists.listed_wall_positions() {
+            arrays.push_matrices("listed_wall_position", listed);
+        }
+        state.wall_motion = self.motion.as_ref().map(|motion| motion.save_state());
         state
     }
 
@@ -173,10 +177,17 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             position_correction: arrays.take_matrices("position_correction", n)?,
         };
         self.integrator.restore_rates(rates, current);
+        restore_wall_motion(&mut self.motion, &state.wall_motion, &mut self.system.walls)?;
+        let arrays = &mut state.arrays;
         if arrays.contains("listed_position") {
             let listed = arrays.take_matrices("listed_position", n)?;
-            let walls = &self.system.walls.position;
-            self.system.lists.rebuild_at(listed, walls)?;
+            let walls = if arrays.contains("listed_wall_position") {
+                let count = self.system.walls.len();
+                arrays.take_matrices("listed_wall_position", count)?
+            } else {
+                self.system.walls.position.clone()
+            };
+            self.system.lists.rebuild_at(listed, &walls)?;
         }
         self.steps = steps;
         Ok(())

@@ -99,13 +99,6 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         let limit_inputs = LimitInputs::of(&solver_inputs);
         let mut solver = build_solver(scene, solver_inputs, &mut fluid)?;
         if !bodies.is_empty() {
-            if options.restart.is_some() {
-                return Err(RunError::Resume(
-                    "a scene with rigid bodies cannot be restarted yet (their state is not in \
-                     checkpoints): run it from the start"
-                        .into(),
-                ));
-            }
             let bodies = geosph_bodies::RigidBodies::new(bodies, &fixed, solver.walls(), coupling)
                 .map_err(|error| {
                     RunError::Scene(geosph_scene::SceneError::Field {
@@ -171,11 +164,9 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             bar,
             next_output: 0.0,
             next_sample: 0.0,
-            // Bodies are not in checkpoints yet: a run with bodies writes none.
             checkpoint_path: options
                 .out_dir
                 .as_ref()
-                .filter(|_| scene.bodies.is_empty())
                 .map(|dir| dir.join(checkpoint::FILE_NAME)),
             wall_particles,
             blocks,

@@ -45,7 +45,9 @@ pub use eos::{EosKind, EquationOfState};
 pub use lists::{Neighbour, PairLists};
 pub use setup::{ParticleStart, SphSetup};
 pub use shifting::{NoShift, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm, ShiftingInput};
-pub use solver::{Solver, SolverError, StageReport, StepReport, event_step, max_speed};
+pub use solver::{
+    Solver, SolverError, StageReport, StepReport, event_step, max_speed, restore_wall_motion,
+};
 pub use state::{SolverState, StateArrays, StateError};
 pub use viscosity::{
     ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Pair, Viscosity, ViscousTerm,

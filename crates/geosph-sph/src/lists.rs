@@ -199,8 +199,16 @@ impl<const D: usize> PairLists<D> {
         (self.valid && self.skin > 0.0).then_some(self.listed_position.as_slice())
     }
 
+    /// The wall positions the lists were built at, while they are valid, have a skin and the
+    /// walls move (a checkpoint saves them with [`PairLists::listed_positions`]).
+    pub fn listed_wall_positions(&self) -> Option<&[Vector<D>]> {
+        self.listed_positions()
+            .and(self.listed_wall_position.as_deref())
+    }
+
     /// Builds the lists at `listed`, positions saved from [`PairLists::listed_positions`], so
-    /// they are those of the saved run (a restart).
+    /// they are those of the saved run (a restart); with moving walls at `wall_position`
+    /// as [`PairLists::listed_wall_positions`] saved them, else at the walls' positions.
     pub fn rebuild_at(
         &mut self,
         listed: Vec<Vector<D>>,

@@ -212,6 +212,27 @@ pub fn max_speed<const D: usize>(velocity: &[geosph_core::Vector<D>]) -> Real {
         .sqrt()
 }
 
+/// Restores a solver's `motion` from the `saved` state of a checkpoint (moving `walls` to
+/// where it has them): an error when one of the two has moving walls and the other not.
+pub fn restore_wall_motion<const D: usize>(
+    motion: &mut Option<Box<dyn WallMotion<D>>>,
+    saved: &Option<Vec<u8>>,
+    walls: &mut WallParticles<D>,
+) -> Result<(), SolverError> {
+    match (motion, saved) {
+        (None, None) => Ok(()),
+        (Some(motion), Some(state)) => motion
+            .restore_state(state, walls)
+            .map_err(|error| SolverError::WallMotion(format!("restart: {error}"))),
+        (Some(_), None) => Err(SolverError::WallMotion(
+            "restart: the checkpoint holds no rigid bodies, the scene has some".into(),
+        )),
+        (None, Some(_)) => Err(SolverError::WallMotion(
+            "restart: the checkpoint holds rigid bodies, the scene has none".into(),
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -91,6 +91,8 @@ pub struct SolverState {
     pub steps: u64,
     /// The solver's arrays.
     pub arrays: StateArrays,
+    /// The state of its moving walls ([`crate::WallMotion::save_state`]), if it has any.
+    pub wall_motion: Option<Vec<u8>>,
 }
 
 impl SolverState {
@@ -100,6 +102,7 @@ impl SolverState {
             method: method.to_owned(),
             steps: steps as u64,
             arrays: StateArrays::default(),
+            wall_motion: None,
         }
     }
 

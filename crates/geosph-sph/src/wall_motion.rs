@@ -26,4 +26,11 @@ pub trait WallMotion<const D: usize>: Send {
 
     /// Appends the current figures (positions, velocities, loads) to `row`.
     fn sample(&self, row: &mut Vec<Real>);
+
+    /// Everything the next [`WallMotion::advance`] depends on, for a checkpoint.
+    fn save_state(&self) -> Vec<u8>;
+
+    /// Continues from `state`, saved by [`WallMotion::save_state`] of a motion built from the
+    /// same scene, and puts the walls it moves where that state has them.
+    fn restore_state(&mut self, state: &[u8], walls: &mut WallParticles<D>) -> Result<(), String>;
 }

@@ -38,7 +38,7 @@ use geosph_sph::lattice::{
 };
 use geosph_sph::{
     ShiftingInput, Solver, SolverError, SolverState, StateArrays, StateError, StepReport,
-    WallMotion, compression, event_step, keep_out_of_walls, max_speed,
+    WallMotion, compression, event_step, keep_out_of_walls, max_speed, restore_wall_motion,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -448,6 +448,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
             .arrays
             .push("max_acceleration", &[self.max_acceleration]);
         self.method.save_state(&mut state.arrays);
+        state.wall_motion = self.motion.as_ref().map(|motion| motion.save_state());
         state
     }
 
@@ -459,6 +460,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         let steps = state.steps_of(self.name())?;
         let max_acceleration = state.arrays.take_value("max_acceleration")?;
         self.method.restore_state(&mut state.arrays)?;
+        restore_wall_motion(&mut self.motion, &state.wall_motion, &mut self.system.walls)?;
         self.system.update(fluid)?;
         self.max_acceleration = max_acceleration;
         self.steps = steps;
