@@ -77,7 +77,7 @@ where
 /// Issue 23's bar: a floating box reaches the equilibrium draft within 2 %. A 0.4 m × 0.2 m
 /// box of density 500 kg/m³ floats with a draft of ρ_b/ρ_w × 0.2 m = 0.1 m (Archimedes), and
 /// upright (metacentric height KB + BM − KG = 0.05 + B²/(12 d) − 0.1 = +0.083 m; a square of
-/// the same density would roll over, as it does here). Released at a draft of 0.08 m into a
+/// the same density would roll over, as it does when run by hand: `docs/geometry.md`). Released at a draft of 0.08 m into a
 /// 1 m wide tank of water 0.4 m deep (WCSPH, dx = 0.02 m), it heaves about the equilibrium;
 /// the draft, the water level beside it less the box's bottom, is averaged over the last
 /// 2 s (about two heave periods).
@@ -242,9 +242,10 @@ fn columns_at(out: &Path, name: &str, time: Real) -> [Real; 4] {
 fn bad_bodies_are_refused_naming_the_body() {
     let folder = scratch("bodies-bad");
     let scene = |bodies: &str, solver: &str| {
+        // The fluid's lattice starts at its box's corner, half a spacing off the bodies'.
         let mut scene = Scene::from_ron(&format!(
             r#"Scene(name: "bad", dimension: 2, dx: 0.02, end_time: 0.1,
-                fluid: (blocks: [Box(min: [0.0, 0.0], max: [0.4, 0.2])]),
+                fluid: (blocks: [Box(min: [0.01, 0.01], max: [0.41, 0.21])]),
                 walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.0])],
                 bodies: [{bodies}], solver: {solver})"#
         ))
@@ -276,6 +277,20 @@ fn bad_bodies_are_refused_naming_the_body() {
         message.contains("bodies[0]") && message.contains("overlaps"),
         "{message}"
     );
+    let message = refused(
+        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: 500.0),
+           (name: "c", shape: Box(min: [0.65, 0.15], max: [0.75, 0.25]), density: 500.0)"#,
+        wcsph,
+    );
+    assert!(
+        message.contains("bodies[1]") && message.contains("bodies[0]"),
+        "{message}"
+    );
+    let message = refused(
+        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: 500.0, layers: 2)"#,
+        wcsph,
+    );
+    assert!(message.contains("bodies[0].layers"), "{message}");
     let message = refused(
         r#"(name: "b", shape: Mesh(file: "missing.obj"), density: 500.0)"#,
         wcsph,

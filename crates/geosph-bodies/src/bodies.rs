@@ -46,6 +46,10 @@ pub struct Coupling<const D: usize> {
     pub gravity: Vector<D>,
     /// The domain.
     pub domain: Domain<D>,
+    /// The particle spacing dx (the length unit of rapier's contact tolerances).
+    pub spacing: Real,
+    /// The background pressure of the fluid's equation of state.
+    pub background_pressure: Real,
 }
 
 /// Why the bodies cannot be built or moved.
@@ -124,7 +128,7 @@ impl<const D: usize> RigidBodies<D> {
         walls: &WallParticles<D>,
         coupling: Coupling<D>,
     ) -> Result<Self, BodyError> {
-        let mut world = World::new(&coupling.gravity);
+        let mut world = World::new(&coupling.gravity, coupling.spacing);
         for shape in fixed {
             world.add_fixed(shape);
         }
@@ -258,6 +262,7 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
             kernel,
             smoothing_length,
             gravity,
+            background_pressure,
             ..
         } = &self.coupling;
         for body in &mut self.bodies {
@@ -266,6 +271,7 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
                 pressure,
                 grid: &self.grid,
                 gravity: gravity - body.acceleration,
+                background_pressure: *background_pressure,
             };
             let (force, torque) = kernel.dispatch(*smoothing_length, Load { field, body });
             body.force = force;

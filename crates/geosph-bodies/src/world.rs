@@ -73,15 +73,19 @@ fn from_slice<const D: usize>(values: &[Real]) -> Vector<D> {
 }
 
 impl<const D: usize> World<D> {
-    /// An empty world with `gravity`.
-    pub fn new(gravity: &Vector<D>) -> Self {
+    /// An empty world with `gravity`, whose contact tolerances (allowed penetration,
+    /// prediction distance) scale with `length`, the particle spacing: rapier's defaults are
+    /// for bodies of metres.
+    pub fn new(gravity: &Vector<D>, length: Real) -> Self {
         let engine = if D == 2 {
             let mut world = r2::PhysicsWorld::new();
             world.gravity = v2(gravity);
+            world.integration_parameters.length_unit = length;
             Engine::Plane(Box::new(world))
         } else {
             let mut world = r3::PhysicsWorld::new();
             world.gravity = v3(gravity);
+            world.integration_parameters.length_unit = length;
             Engine::Space(Box::new(world))
         };
         Self {

@@ -70,7 +70,11 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             cfl: self.cfl,
             smoothing_length: self.system.kernel.smoothing_length(),
             sound_speed: self.system.eos.sound_speed,
-            max_speed: max_speed(&fluid.velocity),
+            // Moving walls (bodies) count as the flow does: a body must not outrun the step.
+            max_speed: match self.motion {
+                Some(_) => max_speed(&fluid.velocity).max(max_speed(&self.system.walls.velocity)),
+                None => max_speed(&fluid.velocity),
+            },
             max_acceleration: self.integrator.rates().max_acceleration().max(gravity),
             kinematic_viscosity: self.system.viscosity.kinematic_viscosity(),
         };

@@ -17,16 +17,18 @@ pub struct WallLoads<const D: usize> {
     kernel: KernelKind,
     smoothing_length: Real,
     gravity: Vector<D>,
+    background_pressure: Real,
     grid: Option<CellGrid<D>>,
 }
 
 impl<const D: usize> WallLoads<D> {
-    /// The gauges of a set-up's `loads`; `domain` bounds the fluid.
+    /// The gauges of a set-up's `loads`; `domain` bounds the fluid, whose equation of state
+    /// has the background pressure `background_pressure`.
     pub fn new(
         surfaces: Vec<LoadSurface<D>>,
         kernel: KernelKind,
         smoothing_length: Real,
-        gravity: Vector<D>,
+        (gravity, background_pressure): (Vector<D>, Real),
         domain: &Domain<D>,
     ) -> Self {
         let axes = ["x", "y", "z"];
@@ -49,6 +51,7 @@ impl<const D: usize> WallLoads<D> {
             kernel,
             smoothing_length,
             gravity,
+            background_pressure,
             grid,
         }
     }
@@ -100,6 +103,7 @@ impl<const D: usize> WallLoads<D> {
                     pressure,
                     grid,
                     gravity: self.gravity,
+                    background_pressure: self.background_pressure,
                 },
             };
             let (force, moment) = self.kernel.dispatch(self.smoothing_length, gauge);

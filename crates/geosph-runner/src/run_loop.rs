@@ -73,12 +73,13 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         observer: &'a mut dyn Observer<D>,
     ) -> Result<Self, RunError> {
         let mut setup = geosph_scene::build::<D>(scene)?;
+        let background_pressure = scene.solver.particle_start().background_pressure;
         let blocks = setup.blocks.clone();
         let loads = WallLoads::new(
             std::mem::take(&mut setup.loads),
             setup.kernel,
             setup.smoothing_length,
-            setup.gravity,
+            (setup.gravity, background_pressure),
             &setup.domain,
         );
         let bodies = std::mem::take(&mut setup.bodies);
@@ -88,6 +89,8 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             smoothing_length: setup.smoothing_length,
             gravity: setup.gravity,
             domain: setup.domain.clone(),
+            spacing: setup.spacing,
+            background_pressure,
         };
         let (mut fluid, solver_inputs) = setup.split();
         let probes = PressureProbes::<D>::new(
@@ -96,7 +99,12 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             solver_inputs.smoothing_length,
         );
         let wall_particles = solver_inputs.walls.len();
-        let limit_inputs = LimitInputs::of(&solver_inputs);
+        let mut limit_inputs = LimitInputs::of(&solver_inputs);
+        limit_inputs.add_bodies(bodies.iter().map(|body| {
+            let mass =
+                geosph_bodies::mass_properties(&body.interior, body.cell_volume, body.density);
+            (mass.mass, mass.centre)
+        }));
         let mut solver = build_solver(scene, solver_inputs, &mut fluid)?;
         if !bodies.is_empty() {
             let bodies = geosph_bodies::RigidBodies::new(bodies, &fixed, solver.walls(), coupling)

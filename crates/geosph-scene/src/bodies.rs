@@ -45,16 +45,37 @@ fn shape_mesh<const D: usize>(
     }
 }
 
+/// The first of `points` inside `solid` (in 2D its section `plane`), by its bounding box
+/// first.
+fn inside<const D: usize>(solid: &Solid, plane: &Section, points: &[Vector<D>]) -> Option<usize> {
+    let (lo, hi) = solid.mesh().bounds();
+    let lift = |x: &Vector<D>| {
+        if D == 2 {
+            plane.lift(&Vector::<2>::new(x[0], x[1]))
+        } else {
+            Vector::<3>::new(x[0], x[1], x[2])
+        }
+    };
+    points.iter().position(|x| {
+        let x = lift(x);
+        (0..3).all(|k| x[k] > lo[k] && x[k] < hi[k]) && solid.contains(&x)
+    })
+}
+
 /// Builds the scene's bodies: appends each one's dummy particles (lattice sites inside it
 /// within `layers` dx of its surface, normals out of it) to `walls`, and describes its
-/// interior (its mass), surface (the load's quadrature, dx/2 apart) and contact hull.
+/// interior (its mass), surface (the load's quadrature, dx/2 apart) and contact hull. A body
+/// with a `fluid` particle, a wall particle or an earlier body's particle inside it is refused
+/// (`wall_starts`: the first particle of each of the scene's walls, to name it).
 pub(crate) fn build<const D: usize>(
     scene: &Scene,
     rest_density: Real,
     walls: &mut WallParticles<D>,
+    (fluid, wall_starts): (&[Vector<D>], &[usize]),
 ) -> Result<Vec<BodyDescription<D>>, SceneError> {
     let dx = scene.dx;
-    let mut bodies = Vec::with_capacity(scene.bodies.len());
+    let mut bodies: Vec<BodyDescription<D>> = Vec::with_capacity(scene.bodies.len());
+    let mut solids: Vec<(Solid, Section)> = Vec::with_capacity(scene.bodies.len());
     for (k, body) in scene.bodies.iter().enumerate() {
         let field = format!("bodies[{k}]");
         let failed = |message: String| fail(&field, message);
@@ -65,6 +86,22 @@ pub(crate) fn build<const D: usize>(
         let surface = WallSurface::new(mesh).map_err(|error| failed(error.to_string()))?;
         let thickness = body.layers as Real * dx;
         let plane = Section::at_y(section);
+        if let Some(i) = inside(&solid, &plane, fluid) {
+            return Err(failed(format!(
+                "overlaps the fluid: fluid particle {i} at {:?} lies inside it",
+                fluid[i].as_slice()
+            )));
+        }
+        if let Some(w) = inside(&solid, &plane, &walls.position) {
+            let other = match bodies.iter().position(|b| b.walls.contains(&w)) {
+                Some(j) => format!("bodies[{j}]"),
+                None => format!("walls[{}]", wall_starts.partition_point(|&s| s <= w) - 1),
+            };
+            return Err(failed(format!(
+                "starts overlapping {other}: its wall particle at {:?} lies inside it",
+                walls.position[w].as_slice()
+            )));
+        }
         let (sites, interior, points): (Vec<WallSite<D>>, Vec<Vector<D>>, Vec<SurfacePoint<D>>) =
             if D == 2 {
                 let zero = Vector::<2>::zeros();
@@ -110,6 +147,16 @@ pub(crate) fn build<const D: usize>(
                 "holds no lattice site at dx = {dx}: a body must be at least a few dx across"
             )));
         }
+        let (position, normal, depth): (Vec<Vector<D>>, Vec<Vector<D>>, Vec<Real>) = sites
+            .into_iter()
+            .map(|site| (site.position, site.normal, site.depth))
+            .collect();
+        if let Some(j) = solids
+            .iter()
+            .position(|(other, plane)| inside(other, plane, &position).is_some())
+        {
+            return Err(failed(format!("starts inside bodies[{j}]")));
+        }
         // The contact shape: in 2D the ends of the section's pieces (its polygon), in 3D the
         // mesh's vertices.
         let hull: Vec<Vector<D>> = if D == 2 {
@@ -129,10 +176,6 @@ pub(crate) fn build<const D: usize>(
                 .collect()
         };
         let start = walls.len();
-        let (position, normal, depth) = sites
-            .into_iter()
-            .map(|site| (site.position, site.normal, site.depth))
-            .collect();
         walls.extend(WallParticles::fixed(
             position,
             normal,
@@ -140,6 +183,7 @@ pub(crate) fn build<const D: usize>(
             dx.powi(D as i32),
             rest_density,
         ));
+        solids.push((solid, plane));
         bodies.push(BodyDescription {
             name: body.name.clone(),
             density: body.density,
@@ -161,9 +205,9 @@ pub(crate) fn build<const D: usize>(
     Ok(bodies)
 }
 
-/// The scene's fixed wall surfaces as bodies collide with them: a tank's walls as boxes as
-/// thick as its particle layers, a polyline's segments, a mesh wall's triangles (3D) or the
-/// pieces of its section (2D).
+/// A tank's walls as bodies collide with them: boxes as thick as its particle layers, each
+/// grown by that thickness along the wall (so neighbouring walls overlap at the edges and
+/// leave no gap), except above an open top, where there are no wall particles either.
 pub(crate) fn fixed_shape_of_tank<const D: usize>(
     min: &Vector<D>,
     max: &Vector<D>,
@@ -173,16 +217,10 @@ pub(crate) fn fixed_shape_of_tank<const D: usize>(
     let up = D - 1;
     let mut shapes = Vec::new();
     for axis in 0..D {
-        if axis == up && open_top {
-            // The floor only.
-            let mut top = *max;
-            top[up] = min[up];
-            let mut bottom = *min;
-            bottom[up] -= thickness;
-            shapes.push(slab(&bottom, &top, up, thickness));
-            continue;
-        }
         for side in [-1.0, 1.0] {
+            if axis == up && side > 0.0 && open_top {
+                continue;
+            }
             let (mut lo, mut hi) = (*min, *max);
             if side < 0.0 {
                 hi[axis] = min[axis];
@@ -191,23 +229,14 @@ pub(crate) fn fixed_shape_of_tank<const D: usize>(
                 lo[axis] = max[axis];
                 hi[axis] = max[axis] + thickness;
             }
-            shapes.push(slab(&lo, &hi, axis, thickness));
+            for k in (0..D).filter(|&k| k != axis) {
+                lo[k] -= thickness;
+                if !(k == up && open_top) {
+                    hi[k] += thickness;
+                }
+            }
+            shapes.push(FixedShape::Box { min: lo, max: hi });
         }
     }
     shapes
-}
-
-/// The box [lo, hi] grown by `thickness` on every axis but `axis` (so that the slabs of a
-/// tank overlap at its edges and leave no gap a body could slip through).
-fn slab<const D: usize>(
-    lo: &Vector<D>,
-    hi: &Vector<D>,
-    axis: usize,
-    thickness: Real,
-) -> FixedShape<D> {
-    let grow = Vector::<D>::from_fn(|k, _| if k == axis { 0.0 } else { thickness });
-    FixedShape::Box {
-        min: lo - grow,
-        max: hi + grow,
-    }
 }

@@ -65,11 +65,13 @@ fn default_scale() -> Real {
     1.0
 }
 
-/// Checks a scene's `bodies` (of a soil scene when `soil`).
+/// Checks a scene's `bodies` (of a soil scene when `soil`; `needed` layers span the kernel's
+/// support).
 pub(crate) fn validate(
     bodies: &[BodySpec],
     dimension: usize,
     soil: bool,
+    needed: usize,
 ) -> Result<(), SceneError> {
     if !bodies.is_empty() && soil {
         return Err(fail(
@@ -98,10 +100,13 @@ pub(crate) fn validate(
         }
         in_range(&format!("{field}.density"), body.density, 1.0, 1e5)?;
         in_range(&format!("{field}.friction"), body.friction, 0.0, 10.0)?;
-        if !(1..=10).contains(&body.layers) {
+        if !(needed..=10).contains(&body.layers) {
             return Err(fail(
                 format!("{field}.layers"),
-                format!("must be 1 to 10, got {}", body.layers),
+                format!(
+                    "must lie in [{needed}, 10] (the kernel support in dx), got {}",
+                    body.layers
+                ),
             ));
         }
         match &body.shape {

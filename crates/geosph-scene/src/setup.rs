@@ -471,7 +471,12 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     }
 
     let fixed_walls = walls.len();
-    let bodies = crate::bodies::build::<D>(scene, rest_density, &mut walls)?;
+    let bodies = crate::bodies::build::<D>(
+        scene,
+        rest_density,
+        &mut walls,
+        (&fluid.position, &wall_starts),
+    )?;
     if let Some((k, (i, j, distance))) = bodies.iter().enumerate().find_map(|(k, body)| {
         overlap(
             &walls.position[body.walls.clone()],

@@ -186,7 +186,19 @@ impl Scene {
             &self.bodies,
             dimension,
             matches!(self.solver, SolverSpec::Soil(_)),
+            (self.smoothing_ratio * kernel.support_factor() - 1e-9).ceil() as usize,
         )?;
+        let periodic = self
+            .domain
+            .as_ref()
+            .is_some_and(|domain| domain.periodic.iter().any(|&p| p));
+        if periodic && !self.bodies.is_empty() {
+            return Err(fail(
+                "bodies",
+                "rigid bodies are not wrapped across periodic axes: use a domain without \
+                 `periodic` axes",
+            ));
+        }
         if let Some(surface) = &self.output.surface {
             if dimension != 3 {
                 return Err(fail(

@@ -29,6 +29,9 @@ pub struct FluidField<'a, const D: usize> {
     pub grid: &'a CellGrid<D>,
     /// Gravity g, for the hydrostatic part of the extrapolation.
     pub gravity: Vector<D>,
+    /// The equation of state's background pressure p_b, which acts on every side of a
+    /// surface alike and is taken off.
+    pub background_pressure: Real,
 }
 
 /// F = −Σ_q p(x_q) n_q A_q and M = Σ_q (x_q − x_c) × (−p(x_q) n_q A_q) about `about` = x_c,
@@ -36,9 +39,10 @@ pub struct FluidField<'a, const D: usize> {
 /// as Adami, Hu & Adams (2012, eq. 27) extrapolate it to their wall particles,
 /// hydrostatically:
 ///
-/// p(x_q) = Σ_j V_j W_qj (p_j + ρ_j g·(x_q − x_j)) / Σ_j V_j W_qj,  V_j = m_j/ρ_j,
+/// p(x_q) = Σ_j V_j W_qj (p_j + ρ_j g·(x_q − x_j)) / Σ_j V_j W_qj − p_b,  V_j = m_j/ρ_j,
 ///
-/// clamped at p ≥ 0 as the walls' pressure is (above a free surface it would read a tension),
+/// (p_b the background pressure, which a partly wetted surface would otherwise feel on its wet
+/// side only) clamped at p ≥ 0 as the walls' pressure is (above a free surface it would read a tension),
 /// 0 where no fluid is within the kernel's support (a dry surface). The extrapolation makes a
 /// hydrostatic field exact on faces of any orientation: a plain Shepard average over the fluid
 /// on one side of a face would read the pressure about a particle spacing into the fluid.
@@ -71,7 +75,8 @@ pub fn pressure_load<const D: usize, K: Kernel<D>>(
         if weights <= 0.0 {
             continue;
         }
-        let load = point.normal * (-(weighted / weights).max(0.0) * point.area);
+        let pressure = weighted / weights - field.background_pressure;
+        let load = point.normal * (-pressure.max(0.0) * point.area);
         force += load;
         moment += cross(&(x - about), &load);
     }
@@ -111,6 +116,7 @@ mod tests {
             pressure: &pressure,
             grid: &grid,
             gravity: Vector::<2>::new(0.0, -g),
+            background_pressure: 0.0,
         };
         // A plate of unit length through (0.5, 0.5) at 30°, facing up-left, in pieces of dx/2.
         let tangent = Vector::<2>::new(30f64.to_radians().cos(), 30f64.to_radians().sin());

@@ -290,7 +290,11 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Incompressible<D, K, M>
     /// `max_time_step`.
     fn stable_step(&self, fluid: &Particles<D>) -> Real {
         let reach = self.settings.cfl * self.spacing;
-        let speed = max_speed(&fluid.velocity);
+        // Moving walls (bodies) count as the flow does: a body must not outrun the step.
+        let speed = match self.motion {
+            Some(_) => max_speed(&fluid.velocity).max(max_speed(&self.system.walls.velocity)),
+            None => max_speed(&fluid.velocity),
+        };
         let acceleration = self.max_acceleration;
         let mut dt = if acceleration > 0.0 {
             (-speed + (speed * speed + 2.0 * acceleration * reach).sqrt()) / acceleration

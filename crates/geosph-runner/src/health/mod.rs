@@ -130,7 +130,8 @@ pub struct Diagnosis {
 /// [`ENERGY_FACTOR`] × that, plus the [`ENERGY_FLOOR_MACH`] floor ½ M (0.01 c)². E_el(0) is
 /// estimated as Σ ½ m c² (ρ/ρ₀ − 1)², the energy of a linear-elastic compression. Walls with a
 /// prescribed velocity (a belt, a Couette plate) can drive the flow up to their own speed
-/// u_w: ½ M |u_w|²max is added to the initial energy.
+/// u_w: ½ M |u_w|²max is added to the initial energy, and rigid bodies the potential energy
+/// they can release by sinking to the domain's floor.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnergyBudget {
     /// KE(0) + E_el(0) at the start of the run (or of the restart), J.
@@ -199,6 +200,9 @@ pub struct LimitInputs<const D: usize> {
     /// The sound speed c (the elastic P-wave speed for soil; for the incompressible solvers
     /// the reference speed 10 √(2 |g| H) of their artificial viscosity).
     pub sound_speed: Real,
+    /// Energy that sources other than the particles' own can give the flow, J: the rigid
+    /// bodies' potential energy above the domain's floor ([`LimitInputs::add_bodies`]).
+    pub external_energy: Real,
 }
 
 impl<const D: usize> LimitInputs<D> {
@@ -212,6 +216,24 @@ impl<const D: usize> LimitInputs<D> {
             spacing: setup.spacing,
             support_radius: setup.kernel.support_factor() * setup.smoothing_length,
             sound_speed: setup.sound_speed,
+            external_energy: 0.0,
+        }
+    }
+
+    /// Adds the potential energy rigid bodies of mass m_b at centres x_b can give the flow by
+    /// sinking to the domain's floor: Σ m_b g·(x_floor − x_b), x_floor the domain's corner
+    /// farthest along g.
+    pub fn add_bodies(&mut self, bodies: impl IntoIterator<Item = (Real, Vector<D>)>) {
+        let g = self.gravity;
+        let floor = Vector::<D>::from_fn(|k, _| {
+            if g[k] > 0.0 {
+                self.domain.max[k]
+            } else {
+                self.domain.min[k]
+            }
+        });
+        for (mass, centre) in bodies {
+            self.external_energy += mass * g.dot(&(floor - centre)).max(0.0);
         }
     }
 }
@@ -227,6 +249,7 @@ impl<const D: usize> Limits<D> {
             spacing,
             support_radius,
             mut sound_speed,
+            external_energy,
         } = inputs;
         if solver.sound_speed() > 0.0 {
             sound_speed = solver.sound_speed();
@@ -252,7 +275,10 @@ impl<const D: usize> Limits<D> {
         if !gravity_on_periodic_axis {
             let wall_speed = max_speed(&solver.walls().velocity);
             limits.energy = Some(EnergyBudget {
-                initial: start.kinetic_energy + stored + 0.5 * mass * wall_speed * wall_speed,
+                initial: start.kinetic_energy
+                    + stored
+                    + 0.5 * mass * wall_speed * wall_speed
+                    + external_energy,
                 initial_gravity_moment: start.gravity_moment,
                 floor: 0.5 * mass * (ENERGY_FLOOR_MACH * sound_speed).powi(2),
             });
