@@ -354,6 +354,14 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
         columns
     }
 
+    fn plotted(&self) -> Vec<String> {
+        let up = ["x", "y", "z"][D - 1];
+        self.bodies
+            .iter()
+            .map(|body| format!("{}_{up}", body.name))
+            .collect()
+    }
+
     fn sample(&self, row: &mut Vec<Real>) {
         for body in &self.bodies {
             let motion = &body.motion;

@@ -52,6 +52,9 @@ pub fn scene_outputs(scene: &geosph_scene::Scene, vtk: bool) -> Vec<String> {
     if !output.loads.is_empty() {
         files.push("loads.png".to_owned());
     }
+    if !scene.bodies.is_empty() {
+        files.push("bodies.png".to_owned());
+    }
     files
 }
 

@@ -466,6 +466,19 @@ impl<'a, const D: usize> RunLoop<'a, D> {
                 output.flush()?;
                 crate::probes::plot_probes(output.dir(), self.probes.columns())?;
                 self.loads.plot(output.dir())?;
+                if let Some(motion) = self.solver.wall_motion() {
+                    crate::probes::plot_columns(
+                        output.dir(),
+                        &motion.plotted(),
+                        crate::probes::ColumnPlot {
+                            file: "bodies.png",
+                            title: "Rigid bodies: height of the centre of mass",
+                            y_label: "height (m)",
+                            scale: 1.0,
+                            prefix: "",
+                        },
+                    )?;
+                }
                 output.frames()
             }
             None => 0,

@@ -27,6 +27,12 @@ pub trait WallMotion<const D: usize>: Send {
     /// Appends the current figures (positions, velocities, loads) to `row`.
     fn sample(&self, row: &mut Vec<Real>);
 
+    /// The columns of [`WallMotion::columns`] worth a plot against time, in m (each body's
+    /// height).
+    fn plotted(&self) -> Vec<String> {
+        Vec::new()
+    }
+
     /// Everything the next [`WallMotion::advance`] depends on, for a checkpoint.
     fn save_state(&self) -> Vec<u8>;
 
