@@ -376,3 +376,51 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cells of a lattice-aligned 0.4 m × 0.2 m box at dx = 0.02 m give its exact mass,
+    /// centre and polar inertia m (a² + b²)/12 (2D), and in 3D the box's principal moments
+    /// m (b² + c²)/12, … .
+    #[test]
+    fn lattice_cells_give_a_box_its_exact_mass_properties() {
+        let dx = 0.02;
+        let cells = |n: [usize; 3], d: usize| -> Vec<[Real; 3]> {
+            let mut points = Vec::new();
+            for k in 0..n[2].max(1) {
+                for j in 0..n[1] {
+                    for i in 0..n[0] {
+                        let c = [i, j, k].map(|m| (m as Real + 0.5) * dx);
+                        points.push(if d == 2 { [c[0], c[1], 0.0] } else { c });
+                    }
+                }
+            }
+            points
+        };
+        let plane: Vec<Vector<2>> = cells([20, 10, 0], 2)
+            .iter()
+            .map(|c| Vector::<2>::new(c[0], c[1]))
+            .collect();
+        let m2 = mass_properties(&plane, dx * dx, 500.0);
+        let mass = 500.0 * 0.4 * 0.2;
+        approx::assert_relative_eq!(m2.mass, mass, max_relative = 1e-12);
+        approx::assert_relative_eq!(m2.centre, Vector::<2>::new(0.2, 0.1), epsilon = 1e-12);
+        let polar = mass * (0.4 * 0.4 + 0.2 * 0.2) / 12.0;
+        approx::assert_relative_eq!(m2.inertia[(0, 0)], polar, max_relative = 1e-9);
+
+        let space: Vec<Vector<3>> = cells([20, 10, 5], 3)
+            .iter()
+            .map(|c| Vector::<3>::new(c[0], c[1], c[2]))
+            .collect();
+        let m3 = mass_properties(&space, dx * dx * dx, 500.0);
+        let mass = 500.0 * 0.4 * 0.2 * 0.1;
+        let (a, b, c) = (0.4, 0.2, 0.1);
+        let expected = [b * b + c * c, a * a + c * c, a * a + b * b].map(|s| mass * s / 12.0);
+        for k in 0..3 {
+            approx::assert_relative_eq!(m3.inertia[(k, k)], expected[k], max_relative = 1e-9);
+        }
+        approx::assert_relative_eq!(m3.inertia[(0, 1)], 0.0, epsilon = 1e-12);
+    }
+}

@@ -282,3 +282,57 @@ impl<const D: usize> World<D> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_square<const D: usize>() -> (MassProperties<D>, Vec<Vector<D>>) {
+        let hull = (0..1 << D)
+            .map(|k| Vector::<D>::from_fn(|a, _| if k >> a & 1 == 1 { 0.5 } else { -0.5 }))
+            .collect();
+        let inertia = Matrix::<3>::identity() * (1.0 / 6.0);
+        let mass = MassProperties {
+            mass: 1.0,
+            centre: Vector::zeros(),
+            inertia,
+        };
+        (mass, hull)
+    }
+
+    /// Without gravity, a force F and a torque τ about z for one step of Δt give
+    /// v = F Δt/m, ω = τ Δt/I and a counter-clockwise turn about z of at most ω Δt (rapier
+    /// takes the step in substeps, over which ω grows), read back in the `Motion` the same
+    /// way in 2D and 3D: the rotation matrix turns x towards y by the reported angle.
+    fn a_kick_turns_the_body_counter_clockwise<const D: usize>() {
+        let mut world = World::<D>::new(&Vector::zeros(), 1.0);
+        let (mass, hull) = unit_square::<D>();
+        let index = world.add_body(&mass, &hull, 0.0).unwrap();
+        let dt = 0.01;
+        let force = Vector::<D>::from_fn(|k, _| if k == 0 { 2.0 } else { 0.0 });
+        world.set_load(index, &force, &Vector::<3>::new(0.0, 0.0, 1.0 / 6.0));
+        world.step(dt);
+        let motion = world.motion(index);
+        approx::assert_relative_eq!(motion.velocity[0], 2.0 * dt, max_relative = 1e-9);
+        approx::assert_relative_eq!(motion.spin[2], dt, max_relative = 1e-9);
+        let angle = motion.angle[2];
+        assert!(
+            angle > 0.0 && angle <= dt * dt * (1.0 + 1e-9),
+            "angle {angle}"
+        );
+        // The x axis turned towards y.
+        approx::assert_relative_eq!(motion.rotation[(1, 0)], angle.sin(), max_relative = 1e-6);
+        approx::assert_relative_eq!(motion.rotation[(0, 1)], -angle.sin(), max_relative = 1e-6);
+        approx::assert_relative_eq!(
+            motion.rotation.transpose() * motion.rotation,
+            Matrix::<D>::identity(),
+            epsilon = 1e-12
+        );
+    }
+
+    #[test]
+    fn a_kick_turns_the_body_counter_clockwise_in_2d_and_3d() {
+        a_kick_turns_the_body_counter_clockwise::<2>();
+        a_kick_turns_the_body_counter_clockwise::<3>();
+    }
+}

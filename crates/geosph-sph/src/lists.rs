@@ -464,6 +464,53 @@ mod tests {
         assert_eq!(lists.builds(), 2);
     }
 
+    /// Walls that move (a body): the lists hold every fluid–wall pair inside the support as
+    /// long as a particle and a wall particle together moved less than the skin, and are
+    /// rebuilt, with the walls rebinned, once they may have moved more.
+    #[test]
+    fn moving_walls_are_rebinned_and_their_pairs_kept() {
+        let dx = 0.1;
+        let kernel = WendlandC2::<2>::new(1.3 * dx);
+        let support = kernel.support_radius();
+        let domain = Domain::new(Vector::<2>::repeat(-1.0), Vector::<2>::repeat(3.0)).unwrap();
+        let mut walls: Vec<Vector<2>> = (0..12)
+            .map(|k| Vector::<2>::new(k as Real * dx, -0.5 * dx))
+            .collect();
+        let mut lists = PairLists::new(domain, support, 0.2, &walls, false).unwrap();
+        lists.walls_move();
+        let mut position = lattice(10, dx);
+        assert!(lists.update(&mut position, &walls).unwrap());
+        let check = |lists: &PairLists<2>, position: &[Vector<2>], walls: &[Vector<2>]| {
+            for i in 0..position.len() {
+                let mut seen = Vec::new();
+                lists.for_each_wall(&kernel, position, walls, i, |pair| seen.push(pair.index));
+                seen.sort();
+                let expected: Vec<usize> = (0..walls.len())
+                    .filter(|&w| (position[i] - walls[w]).norm() < support)
+                    .collect();
+                assert_eq!(seen, expected, "walls of particle {i}");
+            }
+        };
+        // Up by 0.45 skin, particles still: kept, and every pair still listed.
+        for x in &mut walls {
+            x[1] += 0.45 * 0.2 * support;
+        }
+        assert!(!lists.update(&mut position, &walls).unwrap());
+        check(&lists, &position, &walls);
+        // A particle moving 0.45 skin towards them as well: together more than half the
+        // skin but less than all of it, still kept.
+        position[3][1] -= 0.45 * 0.2 * support;
+        assert!(!lists.update(&mut position, &walls).unwrap());
+        check(&lists, &position, &walls);
+        // Walls a whole skin away from their build: rebuilt and rebinned.
+        for x in &mut walls {
+            x[1] += 0.2 * support;
+        }
+        assert!(lists.update(&mut position, &walls).unwrap());
+        check(&lists, &position, &walls);
+        assert_eq!(lists.listed_wall_positions(), Some(walls.as_slice()));
+    }
+
     #[test]
     fn exact_lists_are_rebuilt_every_update_and_save_no_positions() {
         let dx = 0.1;
