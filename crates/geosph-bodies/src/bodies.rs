@@ -7,8 +7,8 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
 use geosph_neighbours::CellGrid;
-use geosph_sph::WallMotion;
 use geosph_sph::surface_load::{FluidField, LoadPoint, pressure_load};
+use geosph_sph::{MotionError, WallMotion};
 
 use crate::world::{FixedShape, MassProperties, Motion, World};
 
@@ -250,14 +250,14 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
         dt: Real,
         fluid: &Particles<D>,
         walls: &mut WallParticles<D>,
-    ) -> Result<(), String> {
+    ) -> Result<(), MotionError> {
         let pressure = fluid
             .pressure
             .as_deref()
-            .ok_or("rigid bodies need the fluid's pressure")?;
-        self.grid
-            .build(&fluid.position)
-            .map_err(|error| error.to_string())?;
+            .ok_or_else(|| MotionError::Failed("rigid bodies need the fluid's pressure".into()))?;
+        // A particle outside the domain fails here, before any body moved: the step is
+        // retaken without it.
+        self.grid.build(&fluid.position)?;
         let Coupling {
             kernel,
             smoothing_length,
@@ -280,21 +280,36 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
         self.world.step(dt);
         for body in &mut self.bodies {
             let now = self.world.motion(body.index);
-            if !(now
+            let finite = now
                 .centre
                 .iter()
                 .chain(&now.velocity)
-                .all(|x| x.is_finite()))
-            {
-                return Err(format!(
+                .all(|x| x.is_finite());
+            if !finite {
+                return Err(MotionError::Failed(format!(
                     "body `{}` reached a non-finite position or velocity",
                     body.name
-                ));
+                )));
             }
             body.acceleration = (now.velocity - body.motion.velocity) / dt;
             body.angular = (now.spin - body.motion.spin) / dt;
             body.motion = now;
             body.place(walls);
+            let domain = &self.coupling.domain;
+            if let Some(w) = body
+                .walls
+                .clone()
+                .find(|&w| !domain.contains(&walls.position[w]))
+            {
+                return Err(MotionError::Failed(format!(
+                    "body `{}` left the domain: its wall particle at {:?} is outside [{:?}, \
+                     {:?}); enlarge the scene's `domain` or check the walls that should hold it",
+                    body.name,
+                    walls.position[w].as_slice(),
+                    domain.min.as_slice(),
+                    domain.max.as_slice()
+                )));
+            }
         }
         Ok(())
     }

@@ -75,17 +75,20 @@ fn from_slice<const D: usize>(values: &[Real]) -> Vector<D> {
 impl<const D: usize> World<D> {
     /// An empty world with `gravity`, whose contact tolerances (allowed penetration,
     /// prediction distance) scale with `length`, the particle spacing: rapier's defaults are
-    /// for bodies of metres.
+    /// for bodies of metres. Rapier's speed cap (400 length units per second) is lifted: the
+    /// flow, not the engine, sets a body's speed.
     pub fn new(gravity: &Vector<D>, length: Real) -> Self {
         let engine = if D == 2 {
             let mut world = r2::PhysicsWorld::new();
             world.gravity = v2(gravity);
             world.integration_parameters.length_unit = length;
+            world.integration_parameters.normalized_max_linear_velocity = Real::MAX;
             Engine::Plane(Box::new(world))
         } else {
             let mut world = r3::PhysicsWorld::new();
             world.gravity = v3(gravity);
             world.integration_parameters.length_unit = length;
+            world.integration_parameters.normalized_max_linear_velocity = Real::MAX;
             Engine::Space(Box::new(world))
         };
         Self {

@@ -89,9 +89,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             &mut fluid.velocity,
         );
         if let Some(motion) = &mut self.motion {
-            motion
-                .advance(dt, fluid, &mut self.system.walls)
-                .map_err(SolverError::WallMotion)?;
+            motion.advance(dt, fluid, &mut self.system.walls)?;
         }
         self.steps += 1;
         let (mean, max) = density_errors(&fluid.density, self.system.eos.rest_density);

@@ -25,8 +25,9 @@ pub const FILE_NAME: &str = "checkpoint.bin";
 
 /// Version of the file layout; a checkpoint of another version is refused. Version 2 added
 /// the particles that left the domain to [`Progress`], version 3 the report of the solver's
-/// stage before t = 0, version 4 the wall contacts.
-pub const FORMAT_VERSION: u32 = 4;
+/// stage before t = 0, version 4 the wall contacts, version 5 the state of moving walls (rigid
+/// bodies) in the solver's state.
+pub const FORMAT_VERSION: u32 = 5;
 
 const MAGIC: &[u8; 8] = b"GEOSPHCP";
 const HEADER_LEN: usize = 8 + 4 + 8 + 4;

@@ -101,9 +101,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         let wall_particles = solver_inputs.walls.len();
         let mut limit_inputs = LimitInputs::of(&solver_inputs);
         limit_inputs.add_bodies(bodies.iter().map(|body| {
-            let mass =
-                geosph_bodies::mass_properties(&body.interior, body.cell_volume, body.density);
-            (mass.mass, mass.centre)
+            geosph_bodies::mass_properties(&body.interior, body.cell_volume, body.density).mass
         }));
         let mut solver = build_solver(scene, solver_inputs, &mut fluid)?;
         if !bodies.is_empty() {

@@ -54,4 +54,4 @@ pub use viscosity::{
     ViscousVisitor,
 };
 pub use wall_contact::keep_out_of_walls;
-pub use wall_motion::WallMotion;
+pub use wall_motion::{MotionError, WallMotion};

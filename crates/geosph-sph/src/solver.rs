@@ -7,7 +7,7 @@ use geosph_neighbours::SearchError;
 use serde::{Deserialize, Serialize};
 
 use crate::state::{SolverState, StateError};
-use crate::wall_motion::WallMotion;
+use crate::wall_motion::{MotionError, WallMotion};
 
 /// What one step did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -72,6 +72,15 @@ impl StageReport {
 impl std::fmt::Display for StageReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.text)
+    }
+}
+
+impl From<MotionError> for SolverError {
+    fn from(error: MotionError) -> Self {
+        match error {
+            MotionError::Search(error) => Self::Search(error),
+            MotionError::Failed(message) => Self::WallMotion(message),
+        }
     }
 }
 

@@ -2,6 +2,19 @@
 
 use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
+use geosph_neighbours::SearchError;
+
+/// Why moving walls could not advance.
+#[derive(Debug, thiserror::Error)]
+pub enum MotionError {
+    /// The fluid's neighbour search failed (a particle left the domain): the runner's
+    /// escape handling takes it from here, as for any step.
+    #[error(transparent)]
+    Search(#[from] SearchError),
+    /// A body failed (left the domain, non-finite), with what to do about it.
+    #[error("{0}")]
+    Failed(String),
+}
 
 /// Walls a solver moves once per step, after the flow has advanced and before its neighbour
 /// lists are next built (`geosph-bodies`' rigid bodies, two-way coupled: the flow's pressure
@@ -19,7 +32,7 @@ pub trait WallMotion<const D: usize>: Send {
         dt: Real,
         fluid: &Particles<D>,
         walls: &mut WallParticles<D>,
-    ) -> Result<(), String>;
+    ) -> Result<(), MotionError>;
 
     /// The names of the figures [`WallMotion::sample`] appends to a diagnostics row.
     fn columns(&self) -> Vec<String>;

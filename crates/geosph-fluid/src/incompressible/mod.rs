@@ -380,9 +380,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         // Bodies move with the pressure of this step, before the lists and wall gradients
         // of the next are built.
         if let Some(motion) = &mut self.motion {
-            motion
-                .advance(dt, fluid, &mut self.system.walls)
-                .map_err(SolverError::WallMotion)?;
+            motion.advance(dt, fluid, &mut self.system.walls)?;
         }
         self.steps += 1;
         if let Some(permutation) = self.system.lists.sort_if_due(self.steps, fluid)? {

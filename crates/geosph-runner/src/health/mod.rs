@@ -130,8 +130,8 @@ pub struct Diagnosis {
 /// [`ENERGY_FACTOR`] × that, plus the [`ENERGY_FLOOR_MACH`] floor ½ M (0.01 c)². E_el(0) is
 /// estimated as Σ ½ m c² (ρ/ρ₀ − 1)², the energy of a linear-elastic compression. Walls with a
 /// prescribed velocity (a belt, a Couette plate) can drive the flow up to their own speed
-/// u_w: ½ M |u_w|²max is added to the initial energy, and rigid bodies the potential energy
-/// they can release by sinking to the domain's floor.
+/// u_w: ½ M |u_w|²max is added to the initial energy, and rigid bodies the most potential
+/// energy they can release ([`LimitInputs::add_bodies`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnergyBudget {
     /// KE(0) + E_el(0) at the start of the run (or of the restart), J.
@@ -201,7 +201,7 @@ pub struct LimitInputs<const D: usize> {
     /// the reference speed 10 √(2 |g| H) of their artificial viscosity).
     pub sound_speed: Real,
     /// Energy that sources other than the particles' own can give the flow, J: the rigid
-    /// bodies' potential energy above the domain's floor ([`LimitInputs::add_bodies`]).
+    /// bodies' potential energy ([`LimitInputs::add_bodies`]).
     pub external_energy: Real,
 }
 
@@ -220,21 +220,23 @@ impl<const D: usize> LimitInputs<D> {
         }
     }
 
-    /// Adds the potential energy rigid bodies of mass m_b at centres x_b can give the flow by
-    /// sinking to the domain's floor: Σ m_b g·(x_floor − x_b), x_floor the domain's corner
-    /// farthest along g.
-    pub fn add_bodies(&mut self, bodies: impl IntoIterator<Item = (Real, Vector<D>)>) {
+    /// Adds the potential energy rigid bodies of masses m_b can give the flow by sinking from
+    /// the domain's top to its floor, Σ m_b g·(x_floor − x_top) with x_floor (x_top) the
+    /// domain's corner farthest along (against) g: a bound that holds wherever the bodies are,
+    /// at the start or at a restart.
+    pub fn add_bodies(&mut self, masses: impl IntoIterator<Item = Real>) {
         let g = self.gravity;
-        let floor = Vector::<D>::from_fn(|k, _| {
-            if g[k] > 0.0 {
-                self.domain.max[k]
-            } else {
-                self.domain.min[k]
-            }
-        });
-        for (mass, centre) in bodies {
-            self.external_energy += mass * g.dot(&(floor - centre)).max(0.0);
-        }
+        let corner = |down: bool| {
+            Vector::<D>::from_fn(|k, _| {
+                if (g[k] > 0.0) == down {
+                    self.domain.max[k]
+                } else {
+                    self.domain.min[k]
+                }
+            })
+        };
+        let drop = g.dot(&(corner(true) - corner(false))).max(0.0);
+        self.external_energy += masses.into_iter().sum::<Real>() * drop;
     }
 }
 
