@@ -261,63 +261,70 @@ fn bad_bodies_are_refused_naming_the_body() {
         }
     };
     let wcsph = "Wcsph(())";
-    let message = refused(
-        r#"(name: "b", shape: Box(min: [0.6, -0.02], max: [0.8, 0.2]), density: 500.0)"#,
-        wcsph,
-    );
-    assert!(
-        message.contains("bodies[0]") && message.contains("overlapping walls[0]"),
-        "{message}"
-    );
-    let message = refused(
-        r#"(name: "b", shape: Box(min: [0.3, 0.1], max: [0.5, 0.3]), density: 500.0)"#,
-        wcsph,
-    );
-    assert!(
-        message.contains("bodies[0]") && message.contains("overlaps"),
-        "{message}"
-    );
-    let message = refused(
-        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: 500.0),
-           (name: "c", shape: Box(min: [0.65, 0.15], max: [0.75, 0.25]), density: 500.0)"#,
-        wcsph,
-    );
-    assert!(
-        message.contains("bodies[1]") && message.contains("bodies[0]"),
-        "{message}"
-    );
-    let message = refused(
-        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: 500.0, layers: 2)"#,
-        wcsph,
-    );
-    assert!(message.contains("bodies[0].layers"), "{message}");
-    let message = refused(
-        r#"(name: "b", shape: Mesh(file: "missing.obj"), density: 500.0)"#,
-        wcsph,
-    );
-    assert!(
-        message.contains("bodies[0]") && message.contains("missing.obj"),
-        "{message}"
-    );
-    let message = refused(
-        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: -1.0)"#,
-        wcsph,
-    );
-    assert!(message.contains("bodies[0].density"), "{message}");
-    let message = refused(
-        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: 500.0),
-           (name: "b", shape: Box(min: [0.6, 0.5], max: [0.8, 0.7]), density: 500.0)"#,
-        wcsph,
-    );
-    assert!(message.contains("bodies[1].name"), "{message}");
-    let message = refused(
-        r#"(name: "b", shape: Box(min: [0.6, 0.1], max: [0.8, 0.3]), density: 500.0)"#,
-        "Soil(())",
-    );
-    assert!(
-        message.contains("bodies") && message.contains("fluid solver"),
-        "{message}"
-    );
+    let square = |name: &str, lo: (f64, f64), extra: &str| {
+        format!(
+            r#"(name: "{name}", shape: Box(min: [{}, {}], max: [{}, {}]), {extra})"#,
+            lo.0,
+            lo.1,
+            lo.0 + 0.2,
+            lo.1 + 0.2
+        )
+    };
+    let dense = "density: 500.0";
+    // (bodies, solver, what the message must name)
+    let cases = [
+        (
+            square("b", (0.6, -0.02), dense),
+            wcsph,
+            vec!["bodies[0]", "overlapping walls[0]"],
+        ),
+        (
+            square("b", (0.3, 0.1), dense),
+            wcsph,
+            vec!["bodies[0]", "overlaps"],
+        ),
+        (
+            square("b", (0.6, 0.1), dense)
+                + ", "
+                + r#"(name: "c", shape: Box(min: [0.65, 0.15], max: [0.75, 0.25]), density: 500.0)"#,
+            wcsph,
+            vec!["bodies[1]", "bodies[0]"],
+        ),
+        (
+            square("b", (0.6, 0.1), "density: 500.0, layers: 2"),
+            wcsph,
+            vec!["bodies[0].layers"],
+        ),
+        (
+            r#"(name: "b", shape: Mesh(file: "missing.obj"), density: 500.0)"#.to_owned(),
+            wcsph,
+            vec!["bodies[0]", "missing.obj"],
+        ),
+        (
+            square("b", (0.6, 0.1), "density: -1.0"),
+            wcsph,
+            vec!["bodies[0].density"],
+        ),
+        (
+            square("b", (0.6, 0.1), dense) + ", " + &square("b", (0.6, 0.5), dense),
+            wcsph,
+            vec!["bodies[1].name"],
+        ),
+        (
+            square("b", (0.6, 0.1), dense),
+            "Soil(())",
+            vec!["bodies", "fluid solver"],
+        ),
+    ];
+    for (bodies, solver, names) in cases {
+        let message = refused(&bodies, solver);
+        for name in names {
+            assert!(
+                message.contains(name),
+                "{bodies}: {message} should name {name}"
+            );
+        }
+    }
 }
 
 /// The same in 3D, coarse (dx = 0.04 m, WCSPH, 2 s): a 0.4 × 0.4 × 0.2 m box of 500 kg/m³

@@ -12,6 +12,7 @@ use crate::checks::fail;
 use crate::error::SceneError;
 use crate::format::Scene;
 use crate::initial::vector;
+use crate::proximity::overlap;
 use crate::regions::{check_size, read_mesh};
 
 /// The closed mesh of a body's shape and the section plane a 2D scene cuts it with.
@@ -45,6 +46,37 @@ fn shape_mesh<const D: usize>(
     }
 }
 
+/// A mesh wall's surface as bodies collide with it: its triangles (3D), or in 2D the pieces
+/// of its section y = `section`, dx/2 long.
+pub(crate) fn mesh_shape<const D: usize>(
+    surface: &WallSurface,
+    section: Real,
+    dx: Real,
+) -> FixedShape<D> {
+    let point = |x: &Vector<3>| Vector::<D>::from_fn(|k, _| x[k]);
+    if D == 2 {
+        let pieces = surface.section_quadrature(&Section::at_y(section), 0.5 * dx);
+        FixedShape::Segments(
+            pieces
+                .iter()
+                .map(|p| {
+                    let tangent = Vector::<2>::new(-p.normal[1], p.normal[0]) * (0.5 * p.area);
+                    let lift = |x: Vector<2>| Vector::<D>::from_fn(|k, _| x[k]);
+                    [lift(p.position - tangent), lift(p.position + tangent)]
+                })
+                .collect(),
+        )
+    } else {
+        let mesh = surface.mesh();
+        FixedShape::Triangles(
+            mesh.triangles
+                .iter()
+                .map(|t| t.map(|v| point(&mesh.vertices[v as usize])))
+                .collect(),
+        )
+    }
+}
+
 /// The first of `points` inside `solid` (in 2D its section `plane`), by its bounding box
 /// first.
 fn inside<const D: usize>(solid: &Solid, plane: &Section, points: &[Vector<D>]) -> Option<usize> {
@@ -74,6 +106,7 @@ pub(crate) fn build<const D: usize>(
     (fluid, wall_starts): (&[Vector<D>], &[usize]),
 ) -> Result<Vec<BodyDescription<D>>, SceneError> {
     let dx = scene.dx;
+    let fixed = walls.len();
     let mut bodies: Vec<BodyDescription<D>> = Vec::with_capacity(scene.bodies.len());
     let mut solids: Vec<(Solid, Section)> = Vec::with_capacity(scene.bodies.len());
     for (k, body) in scene.bodies.iter().enumerate() {
@@ -156,6 +189,17 @@ pub(crate) fn build<const D: usize>(
             .position(|(other, plane)| inside(other, plane, &position).is_some())
         {
             return Err(failed(format!("starts inside bodies[{j}]")));
+        }
+        if let Some((i, j, distance)) = overlap(&position, &walls.position[..fixed], 0.5 * dx) {
+            let wall = wall_starts.partition_point(|&start| start <= j) - 1;
+            return Err(failed(format!(
+                "starts overlapping walls[{wall}]: its particle at {:?} is {distance:.3e} m \
+                 from the wall's at {:?}, closer than dx/2 = {}; move the body clear of the \
+                 wall (resting on it is fine)",
+                position[i].as_slice(),
+                walls.position[j].as_slice(),
+                0.5 * dx
+            )));
         }
         // The contact shape: in 2D the ends of the section's pieces (its polygon), in 3D the
         // mesh's vertices.

@@ -6,10 +6,11 @@ use geosph_kernels::KernelKind;
 use geosph_sph::EquationOfState;
 use geosph_sph::SphSetup;
 
-use crate::bodies::fixed_shape_of_tank;
+use crate::bodies::{fixed_shape_of_tank, mesh_shape};
 use crate::error::SceneError;
 use crate::format::{LoadSpec, Scene, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity, vector};
+use crate::proximity::overlap;
 use crate::regions::{BlockReport, Filled, check_size, fill_blocks, read_mesh};
 use crate::validate::MAX_PARTICLES;
 use geosph_bodies::{BodyDescription, FixedShape};
@@ -90,41 +91,6 @@ fn to_dimension<const D: usize>(plane: WallParticles<2>) -> WallParticles<D> {
         density: plane.density,
         viscous_velocity: plane.viscous_velocity.iter().map(lift).collect(),
     }
-}
-
-/// The first fluid particle `i` closer than `gap` (minus round-off) to a wall particle `j`, with
-/// the distance; by hashing the wall particles into cells of size `gap`.
-fn overlap<const D: usize>(
-    fluid: &[Vector<D>],
-    walls: &[Vector<D>],
-    gap: Real,
-) -> Option<(usize, usize, Real)> {
-    use std::collections::HashMap;
-    let cell = |x: &Vector<D>| -> [i64; D] { std::array::from_fn(|k| (x[k] / gap).floor() as i64) };
-    let mut cells: HashMap<[i64; D], Vec<usize>> = HashMap::new();
-    for (j, x) in walls.iter().enumerate() {
-        cells.entry(cell(x)).or_default().push(j);
-    }
-    let limit = gap * (1.0 - 1e-9);
-    let offsets = 3_usize.pow(D as u32);
-    for (i, x) in fluid.iter().enumerate() {
-        let home = cell(x);
-        for offset in 0..offsets {
-            let mut key = home;
-            let mut rest = offset;
-            for k in 0..D {
-                key[k] += (rest % 3) as i64 - 1;
-                rest /= 3;
-            }
-            for &j in cells.get(&key).into_iter().flatten() {
-                let distance = (x - walls[j]).norm();
-                if distance < limit {
-                    return Some((i, j, distance));
-                }
-            }
-        }
-    }
-    None
 }
 
 /// The first fluid particle that lies behind the polyline `points` (on the side away from
@@ -215,33 +181,6 @@ fn mesh_walls<const D: usize>(
     }
     let particles = WallParticles::fixed(position, normal, depth, dx.powi(D as i32), rest_density);
     Ok((particles, surface))
-}
-
-/// A mesh wall's surface as bodies collide with it: its triangles (3D), or in 2D the pieces
-/// of its section y = `section`, dx/2 long.
-fn mesh_shape<const D: usize>(surface: &WallSurface, section: Real, dx: Real) -> FixedShape<D> {
-    let point = |x: &Vector<3>| Vector::<D>::from_fn(|k, _| x[k]);
-    if D == 2 {
-        let pieces = surface.section_quadrature(&Section::at_y(section), 0.5 * dx);
-        FixedShape::Segments(
-            pieces
-                .iter()
-                .map(|p| {
-                    let tangent = Vector::<2>::new(-p.normal[1], p.normal[0]) * (0.5 * p.area);
-                    let lift = |x: Vector<2>| Vector::<D>::from_fn(|k, _| x[k]);
-                    [lift(p.position - tangent), lift(p.position + tangent)]
-                })
-                .collect(),
-        )
-    } else {
-        let mesh = surface.mesh();
-        FixedShape::Triangles(
-            mesh.triangles
-                .iter()
-                .map(|t| t.map(|v| point(&mesh.vertices[v as usize])))
-                .collect(),
-        )
-    }
 }
 
 /// The quadrature of a load gauge on `surface`, points dx/2 apart.
@@ -470,34 +409,12 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         }
     }
 
-    let fixed_walls = walls.len();
     let bodies = crate::bodies::build::<D>(
         scene,
         rest_density,
         &mut walls,
         (&fluid.position, &wall_starts),
     )?;
-    if let Some((k, (i, j, distance))) = bodies.iter().enumerate().find_map(|(k, body)| {
-        overlap(
-            &walls.position[body.walls.clone()],
-            &walls.position[..fixed_walls],
-            0.5 * dx,
-        )
-        .map(|found| (k, found))
-    }) {
-        let wall = wall_starts.partition_point(|&start| start <= j) - 1;
-        return Err(SceneError::Field {
-            field: format!("bodies[{k}]"),
-            message: format!(
-                "starts overlapping walls[{wall}]: its particle at {:?} is {distance:.3e} m \
-                 from the wall's at {:?}, closer than dx/2 = {}; move the body clear of the \
-                 wall (resting on it is fine)",
-                walls.position[bodies[k].walls.start + i].as_slice(),
-                walls.position[j].as_slice(),
-                0.5 * dx
-            ),
-        });
-    }
 
     // Meshes count once read: the scene's estimate could not bound them.
     let particles = fluid.len() + walls.len();
