@@ -17,4 +17,5 @@ mod soil_element;
 mod soil_sph;
 mod surface;
 mod wall_pressure;
+mod wall_slip;
 mod wcsph;

@@ -28,8 +28,9 @@ pub struct FlowView<'a, const D: usize> {
 /// p_w = [ Σ_f p_f W_wf + (g − a_w) · Σ_f ρ_f (x_w − x_f) W_wf ] / Σ_f W_wf,
 ///
 /// its density from the equation of state, ρ_w = ρ(p_w), and for viscous terms the velocity
-/// ũ_w = 2 u_w − Σ_f v_f W_wf / Σ_f W_wf (no-slip, eq. 22) or the flow's own Shepard velocity
-/// (free-slip). A wall particle without flow neighbours gets p_w = 0 and ũ_w = u_w.
+/// ũ_w of [`Slip::viscous_velocity`] with the flow's Shepard velocity Σ_f v_f W_wf / Σ_f W_wf
+/// (no-slip: eq. 22 for a physical term). A wall particle without flow neighbours gets
+/// p_w = 0 and ũ_w = u_w.
 ///
 /// With `clamp_negative` the wall pressure is max(p_w, 0): a wall pushes but never pulls, so
 /// free-surface particles next to a wall (negative pressure from the truncated kernel) do not
@@ -40,6 +41,8 @@ pub struct DummyAdami2012<const D: usize> {
     pub gravity: Vector<D>,
     /// No-slip or free-slip.
     pub slip: Slip,
+    /// Whether the flow's viscous term is physical (laminar) rather than artificial.
+    pub physical_viscosity: bool,
     /// Clamp negative wall pressure to zero.
     pub clamp_negative: bool,
 }
@@ -94,11 +97,11 @@ impl<const D: usize> DummyAdami2012<D> {
                     } else {
                         extrapolated
                     };
-                    let flow_velocity = velocity_sum / weight_sum;
-                    *u_w = match self.slip {
-                        Slip::NoSlip => 2.0 * velocity[w] - flow_velocity,
-                        Slip::FreeSlip => flow_velocity,
-                    };
+                    *u_w = self.slip.viscous_velocity(
+                        self.physical_viscosity,
+                        velocity[w],
+                        velocity_sum / weight_sum,
+                    );
                 } else {
                     *p_w = 0.0;
                     *u_w = velocity[w];

@@ -6,13 +6,38 @@ use serde::{Deserialize, Serialize};
 /// How a wall acts on the tangential velocity of the flow.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Slip {
-    /// The flow sticks to the wall: the dummy velocity mirrors the fluid's (Adami et al. 2012,
-    /// eq. 22), so viscous terms see a zero velocity at the wall surface.
+    /// The flow sticks to the wall: a physical viscous term sees the dummy velocity mirror the
+    /// fluid's (Adami et al. 2012, eq. 22), so the flow's velocity at the wall surface is the
+    /// wall's.
     #[default]
     NoSlip,
-    /// The flow slides freely: the dummy velocity equals the fluid's, so viscous terms exert no
-    /// shear at the wall.
+    /// The flow slides freely: the dummy velocity equals the fluid's, so no viscous term,
+    /// physical or artificial, exerts shear at the wall (nor resists approach: the wall's
+    /// pressure does). For flows whose boundary layer is far thinner than the particle
+    /// spacing (a dam-break surge at Re ~ 10⁶).
     FreeSlip,
+}
+
+impl Slip {
+    /// The velocity ũ_w that a wall particle moving at `wall` (u_w) shows a viscous term, with
+    /// `flow` the Shepard-weighted velocity of its flow neighbours:
+    ///
+    /// - no-slip, physical term: ũ_w = 2 u_w − flow (Adami, Hu & Adams 2012, eq. 22);
+    /// - no-slip, artificial term: ũ_w = u_w, the wall particles as they move (Monaghan 1992's
+    ///   approach-only term then also drags a flow along the wall, a friction set by α h c₀);
+    /// - free-slip: ũ_w = flow.
+    pub fn viscous_velocity<const D: usize>(
+        self,
+        physical: bool,
+        wall: Vector<D>,
+        flow: Vector<D>,
+    ) -> Vector<D> {
+        match self {
+            Slip::NoSlip if physical => wall * 2.0 - flow,
+            Slip::NoSlip => wall,
+            Slip::FreeSlip => flow,
+        }
+    }
 }
 
 /// Dummy wall particles: the geometry is fixed at creation; pressure, density and the velocity

@@ -58,6 +58,7 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
         let wall_condition = DummyAdami2012 {
             gravity: setup.gravity,
             slip: config.wall_slip,
+            physical_viscosity: config.viscosity.is_physical(),
             clamp_negative: config.clamp_wall_pressure,
         };
         let mut system = WcsphSystem::new(
@@ -177,6 +178,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
             setup.gravity,
             setup.walls,
             config.wall_pressure,
+            config.wall_slip,
         )?;
         system.shifting = config.shifting;
         system.renormalise_gradients = config.renormalise_gradients;

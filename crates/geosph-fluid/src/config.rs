@@ -75,6 +75,12 @@ impl ViscosityConfig {
         }
     }
 
+    /// Whether the term models physical (laminar) viscosity, for the velocity walls show it
+    /// ([`Slip::viscous_velocity`]).
+    pub fn is_physical(&self) -> bool {
+        matches!(self, Self::Laminar { .. })
+    }
+
     /// The term for smoothing length `h` and sound speed `sound_speed` (the artificial
     /// viscosity's c̄).
     pub fn term(&self, h: Real, sound_speed: Real) -> ViscousTerm {
@@ -287,6 +293,8 @@ pub struct IncompressibleConfig {
     pub viscosity: ViscosityConfig,
     /// Wall pressure model (default hydrostatic).
     pub wall_pressure: WallPressure,
+    /// Wall slip condition (default no-slip).
+    pub wall_slip: Slip,
     /// IISPH: relaxation ω of the Jacobi update (default 0.5).
     pub relaxation: Real,
     /// IISPH: how the pressure system is iterated (default `RelaxedJacobi`; `Bicgstab(())`
@@ -331,6 +339,7 @@ impl Default for IncompressibleConfig {
                 beta: 0.0,
             },
             wall_pressure: WallPressure::Hydrostatic,
+            wall_slip: Slip::NoSlip,
             relaxation: 0.5,
             iteration: PressureIteration::RelaxedJacobi,
             divergence_solve: true,

@@ -16,7 +16,7 @@
 //! test checks the iteration, not the discretisation. A second test checks IISPH's BiCGSTAB
 //! solve against the converged Jacobi on the same step.
 
-use geosph_boundary::generate;
+use geosph_boundary::{Slip, generate};
 use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_fluid::incompressible::{
     Bicgstab, Iisph, Incompressible, PressureIteration, PressureMethod, PressureSolveSettings,
@@ -98,6 +98,7 @@ fn loaded_step() -> (
         Vector::<2>::new(0.0, -9.81),
         generate::tank(&Vector::zeros(), &tank, dx, 3, true, RHO0),
         WallPressure::Hydrostatic,
+        Slip::NoSlip,
     )
     .unwrap();
     let solver = Incompressible::new(

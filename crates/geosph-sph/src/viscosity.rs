@@ -27,20 +27,11 @@ pub struct Pair<const D: usize> {
 /// A viscous acceleration term. The pair loop is monomorphised over it, so [`Inviscid`] costs
 /// nothing.
 pub trait Viscosity<const D: usize>: Copy + Send + Sync + 'static {
-    /// Whether the term models physical viscosity, so that walls act on it with their
-    /// mirrored (no-slip) or copied (free-slip) velocity ũ_w; artificial terms see the
-    /// prescribed wall velocity u_w instead, so they damp motion into the wall but exert no
-    /// shear along it.
-    const PHYSICAL: bool;
-
-    /// The velocity wall particle `w` shows this term: ũ_w when [`Self::PHYSICAL`], else u_w.
+    /// The velocity wall particle `w` shows this term, ũ_w (the wall condition sets it by
+    /// the slip condition and the kind of term, `geosph_boundary::Slip::viscous_velocity`).
     #[inline(always)]
     fn wall_velocity(walls: &WallParticles<D>, w: usize) -> Vector<D> {
-        if Self::PHYSICAL {
-            walls.viscous_velocity[w]
-        } else {
-            walls.velocity[w]
-        }
+        walls.viscous_velocity[w]
     }
 
     /// The contribution of neighbour j to dv_i/dt.
@@ -55,8 +46,6 @@ pub trait Viscosity<const D: usize>: Copy + Send + Sync + 'static {
 pub struct Inviscid;
 
 impl<const D: usize> Viscosity<D> for Inviscid {
-    const PHYSICAL: bool = false;
-
     #[inline(always)]
     fn acceleration(&self, _pair: &Pair<D>) -> Vector<D> {
         Vector::zeros()
@@ -106,8 +95,6 @@ impl ArtificialMonaghan1992 {
 }
 
 impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
-    const PHYSICAL: bool = false;
-
     #[inline(always)]
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D> {
         let approach = pair.v_ij.dot(&pair.r_ij);
@@ -141,8 +128,6 @@ pub struct LaminarMorris1997 {
 }
 
 impl<const D: usize> Viscosity<D> for LaminarMorris1997 {
-    const PHYSICAL: bool = true;
-
     #[inline(always)]
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D> {
         // (μ_i + μ_j)/(ρ_i ρ_j) = ν (ρ_i + ρ_j)/(ρ_i ρ_j)

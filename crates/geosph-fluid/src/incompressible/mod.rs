@@ -337,7 +337,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         // v* into the spare buffer, which then swaps with v: the old velocity stays behind
         // for the acceleration bound below.
         self.previous_velocity.resize(n, Vector::zeros());
-        self.system.mirror_wall_velocity(fluid);
+        self.system.wall_viscous_velocity(fluid);
         self.system
             .predict_velocity(fluid, dt, &mut self.previous_velocity);
         std::mem::swap(&mut fluid.velocity, &mut self.previous_velocity);

@@ -2,7 +2,7 @@
 //! acceleration with wall pressure mirroring, the velocity divergence and the diagonal of the
 //! pressure system (the known, non-pressure acceleration in `system/known.rs`).
 
-use geosph_boundary::WallParticles;
+use geosph_boundary::{Slip, WallParticles};
 use geosph_core::{Domain, Matrix, NeighbourList, Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
@@ -70,6 +70,8 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>> {
     pub walls: WallParticles<D>,
     /// Wall pressure model.
     pub wall_pressure: WallPressure,
+    /// Whether walls hold the flow's tangential velocity (no-slip) or let it slide.
+    pub wall_slip: Slip,
     /// Particle shifting of the drift (off: `None`).
     pub shifting: Option<ParticleShifting>,
     /// Constant c multiplying every pressure-gradient term (1: none). The solvers set it to
@@ -114,12 +116,14 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
         gravity: Vector<D>,
         walls: WallParticles<D>,
         wall_pressure: WallPressure,
+        wall_slip: Slip,
     ) -> Result<Self, SearchError> {
-        // A laminar term needs the walls' mirrored velocity, which sums over the flow near each
-        // wall particle: the wall-side list.
+        // A laminar term, or any term at a free-slip wall, needs the velocity of the flow near
+        // each wall particle: the wall-side list.
         let laminar = viscosity.kinematic_viscosity() > 0.0;
+        let wall_side = laminar || wall_slip == Slip::FreeSlip;
         let support = kernel.support_radius();
-        let lists = PairLists::new(domain, support, 0.0, &walls.position, laminar)?;
+        let lists = PairLists::new(domain, support, 0.0, &walls.position, wall_side)?;
         Ok(Self {
             kernel,
             lists,
@@ -128,6 +132,7 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
             gravity,
             walls,
             wall_pressure,
+            wall_slip,
             shifting: None,
             gradient_correction: 1.0,
             renormalise_gradients: false,

@@ -1,7 +1,7 @@
 //! The known (non-pressure) acceleration of the pressure solvers: gravity, the viscous term
 //! and the walls' hydrostatic head, and the no-slip velocity of the walls.
 
-use geosph_boundary::WallParticles;
+use geosph_boundary::{Slip, WallParticles};
 use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_sph::{Pair, Viscosity, ViscousVisitor};
@@ -23,15 +23,16 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
         });
     }
 
-    /// For a laminar viscous term, the no-slip velocity of every wall particle,
-    /// ũ_w = 2 u_w − Σ_f v_f W_wf / Σ_f W_wf (Adami, Hu & Adams 2012, eq. 22; u_w where no
-    /// fluid is near), so that the flow's velocity extrapolated to the wall surface is the
-    /// wall's; without it the no-slip plane sits about a spacing inside the wall. Nothing for
-    /// other terms.
-    pub fn mirror_wall_velocity(&mut self, fluid: &Particles<D>) {
-        if self.viscosity.kinematic_viscosity() == 0.0 {
-            return;
-        }
+    /// The velocity ũ_w every wall particle shows the viscous term, by the walls' slip
+    /// condition ([`Slip::viscous_velocity`]): for a laminar term at a no-slip wall
+    /// ũ_w = 2 u_w − Σ_f v_f W_wf / Σ_f W_wf (Adami, Hu & Adams 2012, eq. 22), so that the
+    /// flow's velocity extrapolated to the wall surface is the wall's (without it the no-slip
+    /// plane sits about a spacing inside the wall); at a free-slip wall the flow's own
+    /// Shepard velocity; for an artificial term at a no-slip wall u_w. u_w where no fluid is
+    /// near.
+    pub fn wall_viscous_velocity(&mut self, fluid: &Particles<D>) {
+        let physical = self.viscosity.kinematic_viscosity() > 0.0;
+        let slip = self.wall_slip;
         let (kernel, lists) = (&self.kernel, &self.lists);
         let WallParticles {
             position: wall_position,
@@ -39,11 +40,15 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
             viscous_velocity,
             ..
         } = &mut self.walls;
+        if !physical && slip == Slip::NoSlip {
+            viscous_velocity.copy_from_slice(wall_velocity);
+            return;
+        }
         let (wall_position, wall_velocity) = (&*wall_position, &*wall_velocity);
         viscous_velocity
             .par_iter_mut()
             .enumerate()
-            .for_each(|(w, mirrored)| {
+            .for_each(|(w, shown)| {
                 let (mut sum, mut weight) = (Vector::<D>::zeros(), 0.0);
                 lists.for_each_particle_near_wall(
                     kernel,
@@ -56,8 +61,8 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
                         weight += value;
                     },
                 );
-                *mirrored = if weight > 0.0 {
-                    wall_velocity[w] * 2.0 - sum / weight
+                *shown = if weight > 0.0 {
+                    slip.viscous_velocity(physical, wall_velocity[w], sum / weight)
                 } else {
                     wall_velocity[w]
                 };
