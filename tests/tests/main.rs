@@ -12,6 +12,7 @@ mod hostile_scenes;
 mod incompressible;
 mod kernels;
 mod neighbours;
+mod obstacle_impact;
 mod output_integrity;
 mod soil_element;
 mod soil_sph;

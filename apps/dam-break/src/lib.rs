@@ -8,9 +8,10 @@
 //! by √2. `main.rs` is a thin command line around [`run`].
 #![warn(missing_docs)]
 
+mod gauge_comparison;
+mod gauges;
 mod martin_moyce;
 mod reference;
-mod wall_pressure;
 
 use std::path::Path;
 
@@ -19,12 +20,14 @@ use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
 use geosph_runner::{NoObserver, Observer, RunOptions, Summary, push_records, take_records};
 use geosph_scene::{Region, Scene};
 
+pub use gauge_comparison::{GaugeComparison, WallPressureValidation};
+pub use gauges::{
+    EXPERIMENTS, GaugeExperiment, GaugeSetUp, KLEEFSMAN_2005, LOBOVSKY_2014, Sensor, WallGauges,
+};
 pub use martin_moyce::{GATE_DELAY, Validation, is_martin_moyce, validate};
 pub use reference::{
-    ReferenceCurve, lobovsky_wall_pressure, martin_moyce_column_height, martin_moyce_front,
-};
-pub use wall_pressure::{
-    GaugeComparison, LobovskySetUp, SENSORS, WallGauges, WallPressureValidation,
+    ReferenceCurve, kleefsman_obstacle_pressure, lobovsky_wall_pressure,
+    martin_moyce_column_height, martin_moyce_front,
 };
 
 /// The embedded default scene (`data/scenes/dam-break-2d.ron`).
@@ -203,28 +206,73 @@ impl FrontTracker {
     }
 }
 
-/// What `run` observes: the front and column height, and in Lobovsky et al.'s set-up the wall
-/// gauges (2D only).
+/// What `run` observes: the front and column height, and in an experiment's set-up
+/// ([`GaugeSetUp::of`]) its gauges, in the scene's dimension.
 struct DamBreakObserver {
     tracker: FrontTracker,
-    gauges: Option<WallGauges>,
+    plane_gauges: Option<WallGauges<2>>,
+    space_gauges: Option<WallGauges<3>>,
 }
 
-impl Observer<2> for DamBreakObserver {
+impl DamBreakObserver {
+    fn new(scene: &Scene, column: Column) -> Self {
+        let set_up = GaugeSetUp::of(scene, &column);
+        let dimension = scene.dimension;
+        Self {
+            tracker: FrontTracker::new(column),
+            plane_gauges: set_up
+                .clone()
+                .filter(|_| dimension == 2)
+                .map(|set_up| WallGauges::new(scene, set_up)),
+            space_gauges: set_up
+                .filter(|_| dimension == 3)
+                .map(|set_up| WallGauges::new(scene, set_up)),
+        }
+    }
+}
+
+/// The observer's gauges of dimension D (each run fills the one of its scene's dimension).
+trait GaugesOf<const D: usize> {
+    fn gauges(&self) -> Option<&WallGauges<D>>;
+    fn gauges_mut(&mut self) -> Option<&mut WallGauges<D>>;
+}
+
+impl GaugesOf<2> for DamBreakObserver {
+    fn gauges(&self) -> Option<&WallGauges<2>> {
+        self.plane_gauges.as_ref()
+    }
+    fn gauges_mut(&mut self) -> Option<&mut WallGauges<2>> {
+        self.plane_gauges.as_mut()
+    }
+}
+
+impl GaugesOf<3> for DamBreakObserver {
+    fn gauges(&self) -> Option<&WallGauges<3>> {
+        self.space_gauges.as_ref()
+    }
+    fn gauges_mut(&mut self) -> Option<&mut WallGauges<3>> {
+        self.space_gauges.as_mut()
+    }
+}
+
+impl<const D: usize> Observer<D> for DamBreakObserver
+where
+    Self: GaugesOf<D>,
+{
     fn columns(&self) -> Vec<&'static str> {
-        Observer::<2>::columns(&self.tracker)
+        Observer::<D>::columns(&self.tracker)
     }
 
-    fn sample(&mut self, time: Real, fluid: &Particles<2>, row: &mut Vec<Real>) {
+    fn sample(&mut self, time: Real, fluid: &Particles<D>, row: &mut Vec<Real>) {
         self.tracker.sample(time, fluid, row);
-        if let Some(gauges) = &mut self.gauges {
+        if let Some(gauges) = self.gauges_mut() {
             gauges.sample(time, fluid);
         }
     }
 
     fn save_state(&self) -> Vec<Real> {
-        let mut state = Observer::<2>::save_state(&self.tracker);
-        if let Some(gauges) = &self.gauges {
+        let mut state = Observer::<D>::save_state(&self.tracker);
+        if let Some(gauges) = GaugesOf::<D>::gauges(self) {
             gauges.save(&mut state);
         }
         state
@@ -232,28 +280,10 @@ impl Observer<2> for DamBreakObserver {
 
     fn restore_state(&mut self, mut state: &[Real]) -> Result<(), String> {
         self.tracker.restore(&mut state)?;
-        match &mut self.gauges {
+        match self.gauges_mut() {
             Some(gauges) => gauges.restore(&mut state),
             None => Ok(()),
         }
-    }
-}
-
-impl Observer<3> for DamBreakObserver {
-    fn columns(&self) -> Vec<&'static str> {
-        Observer::<3>::columns(&self.tracker)
-    }
-
-    fn sample(&mut self, time: Real, fluid: &Particles<3>, row: &mut Vec<Real>) {
-        self.tracker.sample(time, fluid, row);
-    }
-
-    fn save_state(&self) -> Vec<Real> {
-        Observer::<3>::save_state(&self.tracker)
-    }
-
-    fn restore_state(&mut self, state: &[Real]) -> Result<(), String> {
-        Observer::<3>::restore_state(&mut self.tracker, state)
     }
 }
 
@@ -267,15 +297,16 @@ pub struct Report {
     /// Comparison with the references (only for Martin & Moyce's set-up,
     /// [`is_martin_moyce`]).
     pub validation: Option<Validation>,
-    /// The wall gauges against Lobovsky et al. (2014) (only for their set-up with a probe at a
-    /// sensor, [`LobovskySetUp::of`]).
+    /// The gauges against their experiment (only for Lobovsky et al.'s or Kleefsman et al.'s
+    /// set-up with a probe at a sensor, [`GaugeSetUp::of`]).
     pub wall_pressure: Option<WallPressureValidation>,
 }
 
 /// Runs `scene`; under gravity it tracks the front and the column height and, with an output
 /// folder, writes `front.csv`, `front.png` and `height.png`, with Martin & Moyce's data only
-/// when the scene is their set-up ([`is_martin_moyce`]). In Lobovsky et al.'s set-up it also
-/// compares the probes at their sensors ([`LobovskySetUp::of`]) and writes `wall-pressure.png`.
+/// when the scene is their set-up ([`is_martin_moyce`]). In an experiment's set-up with pressure
+/// gauges it also compares the probes at its sensors ([`GaugeSetUp::of`]) and writes
+/// `wall-pressure.png`.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
     // Before `Column::of`, which indexes the scene's coordinates by its dimension.
     scene.validate().map_err(|error| Error::Run(error.into()))?;
@@ -289,26 +320,35 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
             wall_pressure: None,
         });
     }
-    let mut observer = DamBreakObserver {
-        tracker: FrontTracker::new(column),
-        gauges: LobovskySetUp::of(scene, &column).map(|set_up| WallGauges::new(scene, set_up)),
-    };
+    let mut observer = DamBreakObserver::new(scene, column);
     let summary = geosph_runner::run(scene, options, &mut observer)?;
-    let DamBreakObserver { tracker, gauges } = observer;
+    let DamBreakObserver {
+        tracker,
+        plane_gauges,
+        space_gauges,
+    } = observer;
     let samples = tracker.samples;
     let reference = is_martin_moyce(scene, &column);
     let validation = reference.then(|| validate(&column, &samples));
     if let Some(dir) = &options.out_dir {
         write_outputs(dir, &column, &samples, reference)?;
-        if let Some(gauges) = &gauges {
+        if let Some(gauges) = &plane_gauges {
+            gauges.plot(dir)?;
+        }
+        if let Some(gauges) = &space_gauges {
             gauges.plot(dir)?;
         }
     }
+    let wall_pressure = match (plane_gauges, space_gauges) {
+        (Some(gauges), _) => Some(gauges.compare()),
+        (None, Some(gauges)) => Some(gauges.compare()),
+        (None, None) => None,
+    };
     Ok(Report {
         summary,
         samples,
         validation,
-        wall_pressure: gauges.map(|gauges| gauges.compare()),
+        wall_pressure,
     })
 }
 

@@ -15,18 +15,32 @@ impl ReferenceCurve {
     /// The first two columns of a CSV text with a header line and `#` comment lines; rows
     /// whose first two fields are not numbers are skipped.
     pub fn from_csv(text: &str) -> Self {
+        Self::from_csv_columns(text, 0, 1)
+    }
+
+    /// Columns `x` (abscissae) and `y` (ordinates), counted from 0, of a CSV text with a
+    /// header line and `#` comment lines; rows whose two fields are not numbers are skipped.
+    pub fn from_csv_columns(text: &str, x: usize, y: usize) -> Self {
         let mut curve = Self {
             x: Vec::new(),
             y: Vec::new(),
         };
         for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
-            let mut values = line.split(',').map(|v| v.trim().parse::<Real>());
-            if let (Some(Ok(x)), Some(Ok(y))) = (values.next(), values.next()) {
+            let value = |k: usize| line.split(',').nth(k)?.trim().parse::<Real>().ok();
+            if let (Some(x), Some(y)) = (value(x), value(y)) {
                 curve.x.push(x);
                 curve.y.push(y);
             }
         }
         curve
+    }
+
+    /// The curve with its abscissae times `x` and its ordinates times `y` (e.g. from SI
+    /// units to dimensionless ones).
+    pub fn scaled(mut self, x: Real, y: Real) -> Self {
+        self.x.iter_mut().for_each(|v| *v *= x);
+        self.y.iter_mut().for_each(|v| *v *= y);
+        self
     }
 
     /// The curve at `x0`, linearly interpolated ([`interpolate`]).
@@ -58,6 +72,8 @@ mod tests {
         let curve = ReferenceCurve::from_csv("# source\nx,y\n0.5, 1\nbad,2\n1.5,3,9\n");
         assert_eq!(curve.x, [0.5, 1.5]);
         assert_eq!(curve.y, [1.0, 3.0]);
+        let curve = ReferenceCurve::from_csv_columns("t,a,b\n1,2,3\n2,x,5\n", 0, 2);
+        assert_eq!(curve.scaled(2.0, 0.5).y, [1.5, 2.5]);
     }
 
     #[test]
