@@ -9,7 +9,8 @@
 //! earlier than Ritter's (1892) frictionless front allows. Not asserted, because geosph does
 //! not meet it (`docs/validation.md`, "Impact on an obstacle"): issue 24's aim of an arrival
 //! within 0.1 t√(g/H) of the measured one; at this resolution the impact arrives 0.13
-//! (WCSPH) and 0.22 (DFSPH) late, and 0.12–0.14 at dx = 0.025 m.
+//! (WCSPH) and 0.22 (DFSPH) late, in the fine runs 0.14 (WCSPH, dx = 0.025 m) and 0.12
+//! (DFSPH, dx = 0.02 m).
 
 use std::path::PathBuf;
 

@@ -7,9 +7,10 @@
 //! momentum stays what it was. A free-slip floor must keep it within 1 % (the pressure force
 //! of a discrete floor on a non-uniform flow is not exactly normal); a no-slip floor drags
 //! the layer: the artificial viscosity's approach-only term, acting against the floor's
-//! particles, takes 5.9 % (WCSPH) and 6.2 % (DFSPH) of the momentum in 0.3 s (measured), so
-//! the test asks the two to differ by more than 1 %. Before the slip condition reached the
-//! artificial term, a free-slip floor dragged the layer as much.
+//! particles, takes 5.9 % (WCSPH) and 6.2 % (DFSPH) of the momentum in 0.3 s (measured; a
+//! numerical friction, not physics). The test asks the two to differ by more than 1 %, so
+//! that the option is seen to act: before the slip condition reached the artificial term, a
+//! free-slip floor dragged the layer as much.
 
 use geosph_core::Real;
 use geosph_runner::{RunOptions, run};

@@ -91,8 +91,9 @@ pub const LOBOVSKY_2014: GaugeExperiment = GaugeExperiment {
 /// Kleefsman et al. (2005), SPHERIC test 2: H = 0.55 m, the column 1.228 m long across the
 /// 1 m wide tank, the tank 3.22 m long; a box 0.161 × 0.403 × 0.161 m whose front face is
 /// 2.3955 m from the column's back wall; gauges P1 and P3 on that face at y = 0.471 m, 0.021
-/// and 0.101 m above the floor (the positions of the SPHERIC test 2 description). The plateau t* = 3–5.5 follows the impact and precedes the wave returning from the
-/// far wall.
+/// and 0.101 m above the floor (the positions of the SPHERIC test 2 description). The
+/// plateau t* = 3–5.5 follows the impact and precedes the wave returning from the far wall.
+/// The set-up is recognised by its column, tank and probes; the box itself is not checked.
 pub const KLEEFSMAN_2005: GaugeExperiment = GaugeExperiment {
     name: "Kleefsman et al. (2005)",
     face: "the obstacle's front face",

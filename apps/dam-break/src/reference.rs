@@ -33,8 +33,8 @@ pub fn lobovsky_wall_pressure() -> [ReferenceCurve; 3] {
 /// Pressure p/(ρ g H) against t √(g/H) on the box obstacle of Kleefsman, Fekken, Veldman,
 /// Iwanowski & Buchner (2005, J. Comput. Phys. 206:363, SPHERIC test 2, H = 0.55 m) at P1
 /// (0.021 m above the floor on the box's front face) and P3 (0.101 m), in that order: the
-/// measured record ([`KLEEFSMAN_2005_RECORD`], sampled every 1 ms) scaled with ρ = 1000 kg/m³
-/// and g = 9.81 m/s².
+/// measured record (`data/validation/kleefsman-2005-record-p1-p3.csv`, sampled every 1 ms)
+/// scaled with ρ = 1000 kg/m³ and g = 9.81 m/s².
 pub fn kleefsman_obstacle_pressure() -> [ReferenceCurve; 2] {
     let depth: Real = 0.55;
     let time_scale = (9.81 / depth).sqrt();
@@ -47,7 +47,7 @@ pub fn kleefsman_obstacle_pressure() -> [ReferenceCurve; 2] {
 
 /// The SPHERIC test 2 record of Kleefsman et al. (2005): t (s), then the pressure (Pa) at P1
 /// and P3, to t = 2 s.
-pub const KLEEFSMAN_2005_RECORD: &str =
+const KLEEFSMAN_2005_RECORD: &str =
     include_str!("../../../data/validation/kleefsman-2005-record-p1-p3.csv");
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ pub enum Slip {
     /// The flow slides freely: the dummy velocity equals the fluid's, so no viscous term,
     /// physical or artificial, exerts shear at the wall (nor resists approach: the wall's
     /// pressure does). For flows whose boundary layer is far thinner than the particle
-    /// spacing (a dam-break surge at Re ~ 10⁶).
+    /// spacing and does not matter to the result.
     FreeSlip,
 }
 

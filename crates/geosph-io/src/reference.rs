@@ -19,14 +19,18 @@ impl ReferenceCurve {
     }
 
     /// Columns `x` (abscissae) and `y` (ordinates), counted from 0, of a CSV text with a
-    /// header line and `#` comment lines; rows whose two fields are not numbers are skipped.
+    /// header line and `#` comment lines; rows whose two fields are not finite numbers are
+    /// skipped.
     pub fn from_csv_columns(text: &str, x: usize, y: usize) -> Self {
         let mut curve = Self {
             x: Vec::new(),
             y: Vec::new(),
         };
         for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
-            let value = |k: usize| line.split(',').nth(k)?.trim().parse::<Real>().ok();
+            let value = |k: usize| {
+                let v = line.split(',').nth(k)?.trim().parse::<Real>().ok()?;
+                v.is_finite().then_some(v)
+            };
             if let (Some(x), Some(y)) = (value(x), value(y)) {
                 curve.x.push(x);
                 curve.y.push(y);
@@ -72,7 +76,8 @@ mod tests {
         let curve = ReferenceCurve::from_csv("# source\nx,y\n0.5, 1\nbad,2\n1.5,3,9\n");
         assert_eq!(curve.x, [0.5, 1.5]);
         assert_eq!(curve.y, [1.0, 3.0]);
-        let curve = ReferenceCurve::from_csv_columns("t,a,b\n1,2,3\n2,x,5\n", 0, 2);
+        let curve = ReferenceCurve::from_csv_columns("t,a,b\n1,2,3\n2,x,5\n3,4\n4,5,nan\n", 0, 2);
+        assert_eq!(curve.x, [1.0, 2.0]);
         assert_eq!(curve.scaled(2.0, 0.5).y, [1.5, 2.5]);
     }
 

@@ -70,8 +70,9 @@ pub struct PressureSystem<const D: usize, K: Kernel<D>> {
     pub walls: WallParticles<D>,
     /// Wall pressure model.
     pub wall_pressure: WallPressure,
-    /// Whether walls hold the flow's tangential velocity (no-slip) or let it slide.
-    pub wall_slip: Slip,
+    /// Whether walls hold the flow's tangential velocity (no-slip) or let it slide; fixed at
+    /// construction, which builds the wall-side list that free slip needs.
+    wall_slip: Slip,
     /// Particle shifting of the drift (off: `None`).
     pub shifting: Option<ParticleShifting>,
     /// Constant c multiplying every pressure-gradient term (1: none). The solvers set it to

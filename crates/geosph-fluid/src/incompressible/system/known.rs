@@ -1,5 +1,5 @@
 //! The known (non-pressure) acceleration of the pressure solvers: gravity, the viscous term
-//! and the walls' hydrostatic head, and the no-slip velocity of the walls.
+//! and the walls' hydrostatic head, and the velocity the walls show the viscous term.
 
 use geosph_boundary::{Slip, WallParticles};
 use geosph_core::{Particles, Real, Vector};
