@@ -329,7 +329,7 @@ pub(crate) fn mean_columns(folder: &Path, names: &[&str], from: f64) -> Vec<f64>
 
 /// Writes the meshes of the load tests into `folder`: the tank (bed and left side), its
 /// right side as a plate of its own, and a 0.2 m × 0.2 m block 0.1 m above the bed.
-fn load_meshes(folder: &Path) {
+pub(crate) fn load_meshes(folder: &Path) {
     write_obj(
         &quads("tank", &[bed(), side(0.0, 1.0)]),
         &folder.join("tank.obj"),

@@ -5,6 +5,7 @@ mod checkpoint;
 mod corrections;
 mod dam_break;
 mod determinism;
+mod earth_pressure;
 mod escape;
 mod factor_of_safety;
 mod geometry;

@@ -1,16 +1,17 @@
-//! Load gauges: the force and moment of the fluid's pressure on mesh walls, sampled with the
-//! diagnostics.
+//! Load gauges: the force and moment of the fluid's pressure, or of the soil's stress, on mesh
+//! walls, sampled with the diagnostics.
 
 use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
 use geosph_neighbours::CellGrid;
 use geosph_scene::LoadSurface;
-use geosph_sph::surface_load::{FluidField, LoadPoint, pressure_load};
+use geosph_sph::surface_load::{FluidField, LoadPoint, SoilField, pressure_load, stress_load};
 
 /// The loads on the scene's `output.loads` walls: at each sample, for each gauge, the force
 /// F = −Σ_q p(x_q) n_q A_q and moment M = Σ_q (x_q − x_c) × (−p(x_q) n_q A_q) over the
 /// quadrature points of its surface, with the pressure extrapolated to them from the fluid
-/// ([`geosph_sph::surface_load::pressure_load`]).
+/// ([`geosph_sph::surface_load::pressure_load`]); for soil F = Σ_q σ(x_q) n_q A_q with the
+/// soil's stress ([`geosph_sph::surface_load::stress_load`]).
 pub struct WallLoads<const D: usize> {
     surfaces: Vec<LoadSurface<D>>,
     columns: Vec<String>,
@@ -89,23 +90,29 @@ impl<const D: usize> WallLoads<D> {
         let Some(grid) = self.grid.as_mut() else {
             return;
         };
-        let pressure = fluid.pressure.as_deref();
-        if pressure.is_none() || grid.build(&fluid.position).is_err() {
+        let carried = fluid.pressure.is_some() || fluid.soil.is_some();
+        if !carried || grid.build(&fluid.position).is_err() {
             row.extend(self.columns.iter().map(|_| Real::NAN));
             return;
         }
-        let pressure = pressure.expect("checked");
+        let field = match (&fluid.pressure, &fluid.soil) {
+            (Some(pressure), _) => LoadField::Fluid(FluidField {
+                fluid,
+                pressure,
+                grid,
+                gravity: self.gravity,
+                background_pressure: self.background_pressure,
+            }),
+            (None, Some(soil)) => LoadField::Soil(SoilField {
+                soil: fluid,
+                stress: &soil.stress,
+                grid,
+                gravity: self.gravity,
+            }),
+            (None, None) => unreachable!("checked above"),
+        };
         for surface in &self.surfaces {
-            let gauge = Gauge {
-                surface,
-                field: FluidField {
-                    fluid,
-                    pressure,
-                    grid,
-                    gravity: self.gravity,
-                    background_pressure: self.background_pressure,
-                },
-            };
+            let gauge = Gauge { surface, field };
             let (force, moment) = self.kernel.dispatch(self.smoothing_length, gauge);
             row.extend(force.iter());
             row.extend(if D == 2 {
@@ -117,10 +124,17 @@ impl<const D: usize> WallLoads<D> {
     }
 }
 
+/// What loads a gauge: a fluid's pressure or a soil's stress.
+#[derive(Clone, Copy)]
+enum LoadField<'a, const D: usize> {
+    Fluid(FluidField<'a, D>),
+    Soil(SoilField<'a, D>),
+}
+
 /// One gauge's integral, run with whichever kernel the scene names.
 struct Gauge<'a, const D: usize> {
     surface: &'a LoadSurface<D>,
-    field: FluidField<'a, D>,
+    field: LoadField<'a, D>,
 }
 
 impl<const D: usize> KernelVisitor<D> for Gauge<'_, D> {
@@ -133,6 +147,10 @@ impl<const D: usize> KernelVisitor<D> for Gauge<'_, D> {
             normal: point.normal,
             area: point.area,
         });
-        pressure_load(&kernel, &self.field, points, &self.surface.about)
+        let about = &self.surface.about;
+        match &self.field {
+            LoadField::Fluid(field) => pressure_load(&kernel, field, points, about),
+            LoadField::Soil(field) => stress_load(&kernel, field, points, about),
+        }
     }
 }

@@ -84,17 +84,9 @@ impl Scene {
         Ok(())
     }
 
-    /// Load gauges: names as for probes, each on a `Mesh` wall, a fluid that carries
-    /// pressure.
+    /// Load gauges: names as for probes, each on a `Mesh` wall.
     fn validate_loads(&self, dimension: usize) -> Result<(), SceneError> {
         let loads = &self.output.loads;
-        if !loads.is_empty() && matches!(self.solver, SolverSpec::Soil(_)) {
-            return Err(fail(
-                "output.loads",
-                "load gauges integrate the fluid's pressure and need a fluid solver \
-                 (wcsph, pcisph, iisph or dfsph)",
-            ));
-        }
         for (k, load) in loads.iter().enumerate() {
             let field = format!("output.loads[{k}]");
             if !plain_name(&load.name) {

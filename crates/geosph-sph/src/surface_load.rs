@@ -1,7 +1,7 @@
-//! The force and moment of the fluid's pressure on a surface: the load gauges on fixed walls
-//! and the fluid force on rigid bodies.
+//! The force and moment of the fluid's pressure, or of the soil's stress, on a surface: the
+//! load gauges on fixed walls and the fluid force on rigid bodies.
 
-use geosph_core::{Particles, Real, Vector};
+use geosph_core::{Particles, Real, Tensor3, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::CellGrid;
 
@@ -60,25 +60,109 @@ pub fn pressure_load<const D: usize, K: Kernel<D>>(
         density,
         ..
     } = field.fluid;
+    integrate(points, about, |point| {
+        let (mut weighted, mut weights) = (0.0, 0.0);
+        field
+            .grid
+            .for_each_neighbour(position, &point.position, |j, x_qj, r| {
+                let j = j as usize;
+                let w = mass[j] / density[j] * kernel.value(r);
+                let hydrostatic = density[j] * field.gravity.dot(&x_qj);
+                weighted += w * (field.pressure[j] + hydrostatic);
+                weights += w;
+            });
+        (weights > 0.0).then(|| {
+            let pressure = weighted / weights - field.background_pressure;
+            point.normal * -pressure.max(0.0)
+        })
+    })
+}
+
+/// The soil around a surface: particles with their Cauchy stress, binned in a grid of cells
+/// at least one kernel support wide (built by the caller at the particles' current positions).
+#[derive(Clone, Copy)]
+pub struct SoilField<'a, const D: usize> {
+    /// The soil particles.
+    pub soil: &'a Particles<D>,
+    /// Their Cauchy stress σ_j (tension positive; 3 × 3 also in 2D plane strain).
+    pub stress: &'a [Tensor3],
+    /// `soil`'s positions binned.
+    pub grid: &'a CellGrid<D>,
+    /// Gravity g, for the weight of the soil between a particle and the surface.
+    pub gravity: Vector<D>,
+}
+
+/// F = Σ_q σ(x_q) n_q A_q and M = Σ_q (x_q − x_c) × (σ(x_q) n_q A_q) about `about` = x_c: the
+/// traction of the soil on the surface, with the soil's stress (tension positive; its D × D
+/// block) extrapolated to the surface as the soil's walls extrapolate it to their dummy
+/// particles (`docs/soil.md`, "Walls"), the weight of the soil between adding to the vertical
+/// stress,
+///
+/// σ(x_q) = Σ_j V_j W_qj (σ_j + ρ_j (g·(x_j − x_q)) ĝĝᵀ) / Σ_j V_j W_qj,  V_j = m_j/ρ_j,
+///
+/// and nothing where the normal traction n·σn would pull (soil does not stick to a wall) or no
+/// soil is within the kernel's support. For σ = −p I this is [`pressure_load`]. Only the
+/// vertical stress is extrapolated (the rest of its gradient is not known from equilibrium
+/// alone): on a face across which a horizontal stress grows the average reads it about a
+/// particle spacing into the soil.
+pub fn stress_load<const D: usize, K: Kernel<D>>(
+    kernel: &K,
+    field: &SoilField<'_, D>,
+    points: impl IntoIterator<Item = LoadPoint<D>>,
+    about: &Vector<D>,
+) -> (Vector<D>, Vector<3>) {
+    let Particles {
+        position,
+        mass,
+        density,
+        ..
+    } = field.soil;
+    integrate(points, about, |point| {
+        let (mut weighted, mut weights) = (Tensor3::zeros(), 0.0);
+        let mut head = 0.0;
+        field
+            .grid
+            .for_each_neighbour(position, &point.position, |j, x_qj, r| {
+                let j = j as usize;
+                let w = mass[j] / density[j] * kernel.value(r);
+                weighted += field.stress[j] * w;
+                head -= w * density[j] * field.gravity.dot(&x_qj);
+                weights += w;
+            });
+        if weights <= 0.0 {
+            return None;
+        }
+        let g = field.gravity.norm();
+        let down = Vector::<3>::from_fn(|k, _| {
+            if k < D && g > 0.0 {
+                field.gravity[k] / g
+            } else {
+                0.0
+            }
+        });
+        let stress = (weighted + down * down.transpose() * head) / weights;
+        let traction =
+            Vector::<D>::from_fn(|a, _| (0..D).map(|b| stress[(a, b)] * point.normal[b]).sum());
+        (traction.dot(&point.normal) <= 0.0).then_some(traction)
+    })
+}
+
+/// Σ_q t_q A_q and Σ_q (x_q − x_c) × t_q A_q over `points`, with `traction` the force per area
+/// at a point (`None`: unloaded).
+fn integrate<const D: usize>(
+    points: impl IntoIterator<Item = LoadPoint<D>>,
+    about: &Vector<D>,
+    mut traction: impl FnMut(&LoadPoint<D>) -> Option<Vector<D>>,
+) -> (Vector<D>, Vector<3>) {
     let mut force = Vector::<D>::zeros();
     let mut moment = Vector::<3>::zeros();
     for point in points {
-        let x = point.position;
-        let (mut weighted, mut weights) = (0.0, 0.0);
-        field.grid.for_each_neighbour(position, &x, |j, x_qj, r| {
-            let j = j as usize;
-            let w = mass[j] / density[j] * kernel.value(r);
-            let hydrostatic = density[j] * field.gravity.dot(&x_qj);
-            weighted += w * (field.pressure[j] + hydrostatic);
-            weights += w;
-        });
-        if weights <= 0.0 {
+        let Some(t) = traction(&point) else {
             continue;
-        }
-        let pressure = weighted / weights - field.background_pressure;
-        let load = point.normal * (-pressure.max(0.0) * point.area);
+        };
+        let load = t * point.area;
         force += load;
-        moment += cross(&(x - about), &load);
+        moment += cross(&(point.position - about), &load);
     }
     (force, moment)
 }
