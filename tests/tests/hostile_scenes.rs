@@ -165,6 +165,8 @@ const SOIL_CASES: &[(&str, &str, &str)] = &[
     ("soil CFL too large", "cfl: 0.2 => cfl: 1.2", "`solver.cfl`: must lie in (0, 1], got 1.2"),
     ("misspelt material field", "poisson_ratio: 0.3 => poison_ratio: 0.3", "poison_ratio"),
     ("pressure probe on soil", "vtk: true), => vtk: true, probes: [(name: \"p\", position: [0.1, 0.05])]),", "`output.probes`: pressure probes need a fluid solver"),
+    ("water-level gauge with a height", "vtk: true), => vtk: true, heights: [(name: \"h\", position: [0.1, 0.05])]),", "`output.heights[0].position`: needs 1 finite coordinate(s), the horizontal ones"),
+    ("water-level gauge named twice", "vtk: true), => vtk: true, heights: [(name: \"h\", position: [0.1]), (name: \"h\", position: [0.2])]),", "`output.heights[1].name`: must be unique"),
 ];
 
 /// The scene text of a case: `spec` patched into `base`, or `spec` itself.

@@ -19,6 +19,8 @@
 //!   `output.loads`), extra columns of `diagnostics.csv` and `loads.png`.
 //! - [`probes`]: pressure probes at fixed points (the scene's `output.probes`), extra columns
 //!   `p_<name>` of `diagnostics.csv`.
+//! - [`heights`]: water-level gauges along vertical lines (the scene's `output.heights`),
+//!   extra columns `h_<name>` of `diagnostics.csv` and `heights.png`.
 //! - [`health`]: the blow-up checks, their bounds and the blow-up report.
 //! - [`escape`]: particles that leave the domain, removed from the run, counted and reported.
 //! - [`interrupt`]: the Ctrl-C flag the loop checks once per step.
@@ -55,6 +57,7 @@ pub mod cli;
 mod error;
 pub mod escape;
 pub mod health;
+pub mod heights;
 pub mod interrupt;
 pub mod loads;
 pub mod observer;
@@ -66,6 +69,7 @@ mod run_loop;
 mod summary;
 
 pub use checkpoint::CheckpointEvery;
+pub use heights::HeightGauges;
 pub use loads::WallLoads;
 pub use observer::{NoObserver, Observer, push_records, take_records};
 pub use output::scene_outputs;

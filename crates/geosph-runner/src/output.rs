@@ -39,7 +39,7 @@ pub const DIAGNOSTIC_COLUMNS: [&str; 10] = [
 
 /// The files a run of `scene` writes beside its frames, `<name>.pvd` and `diagnostics.csv`,
 /// for an app's closing line: the free-surface series (when `vtk`, the frames, are written),
-/// and the probe and load plots.
+/// and the probe, water-level and load plots.
 pub fn scene_outputs(scene: &geosph_scene::Scene, vtk: bool) -> Vec<String> {
     let output = &scene.output;
     let mut files = Vec::new();
@@ -48,6 +48,9 @@ pub fn scene_outputs(scene: &geosph_scene::Scene, vtk: bool) -> Vec<String> {
     }
     if !output.probes.is_empty() {
         files.push("probes.png".to_owned());
+    }
+    if !output.heights.is_empty() {
+        files.push("heights.png".to_owned());
     }
     if !output.loads.is_empty() {
         files.push("loads.png".to_owned());

@@ -15,6 +15,7 @@ use crate::error::RunError;
 use crate::escape::{Escapes, Removal};
 use crate::health::report::{BlowUpFiles, BlowUpReport};
 use crate::health::{self, Diagnosis, LimitInputs, Limits};
+use crate::heights::HeightGauges;
 use crate::loads::WallLoads;
 use crate::observer::Observer;
 use crate::options::RunOptions;
@@ -41,6 +42,7 @@ pub(crate) struct RunLoop<'a, const D: usize> {
     /// The state before the step being taken, refreshed in place every step: allocated once.
     last_good: Particles<D>,
     probes: PressureProbes<D>,
+    heights: HeightGauges<D>,
     loads: WallLoads<D>,
     output: Option<RunOutput>,
     state: Progress,
@@ -98,6 +100,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             solver_inputs.kernel,
             solver_inputs.smoothing_length,
         );
+        let heights = HeightGauges::<D>::new(&scene.output.heights, scene.dx);
         let wall_particles = solver_inputs.walls.len();
         let mut limit_inputs = LimitInputs::of(&solver_inputs);
         limit_inputs.add_bodies(bodies.iter().map(|body| {
@@ -144,7 +147,12 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             scene,
             options,
             &*observer,
-            [probes.columns(), loads.columns(), &motion_columns],
+            [
+                probes.columns(),
+                heights.columns(),
+                loads.columns(),
+                &motion_columns,
+            ],
             restart.as_ref(),
         )?;
         let bar = progress_bar(options, scene.end_time);
@@ -160,6 +168,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             last_good: fluid.clone(),
             fluid,
             probes,
+            heights,
             loads,
             output,
             checkpoints: CheckpointClock::new(options.checkpoint_every, state.time),
@@ -325,8 +334,8 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         }
     }
 
-    /// One row of `diagnostics.csv`: the run's own columns, the observer's, the probes' and the
-    /// load gauges'.
+    /// One row of `diagnostics.csv`: the run's own columns, the observer's, the probes', the
+    /// water levels' and the load gauges'.
     fn sample(&mut self, time: Real, step: usize, report: &StepReport) -> Result<(), RunError> {
         let fluid = &self.fluid;
         self.row.clear();
@@ -344,6 +353,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         ]);
         self.observer.sample(time, fluid, &mut self.row);
         self.probes.sample(fluid, &mut self.row);
+        self.heights.sample(fluid, &mut self.row);
         self.loads.sample(fluid, &mut self.row);
         if let Some(motion) = self.solver.wall_motion() {
             motion.sample(&mut self.row);
@@ -463,6 +473,17 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             Some(output) => {
                 output.flush()?;
                 crate::probes::plot_probes(output.dir(), self.probes.columns())?;
+                crate::probes::plot_columns(
+                    output.dir(),
+                    self.heights.columns(),
+                    crate::probes::ColumnPlot {
+                        file: "heights.png",
+                        title: "Water levels",
+                        y_label: "h (m)",
+                        scale: 1.0,
+                        prefix: "h_",
+                    },
+                )?;
                 self.loads.plot(output.dir())?;
                 if let Some(motion) = self.solver.wall_motion() {
                     crate::probes::plot_columns(

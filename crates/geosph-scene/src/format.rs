@@ -93,6 +93,10 @@ pub struct OutputSpec {
     /// Pressure probes, sampled with the diagnostics (default none): one column
     /// `p_<name>` (Pa) each in `diagnostics.csv`.
     pub probes: Vec<ProbeSpec>,
+    /// Water-level gauges, sampled with the diagnostics (default none): one column
+    /// `h_<name>` (m) each in `diagnostics.csv`, the height of the free surface above the
+    /// gauge's horizontal position.
+    pub heights: Vec<HeightSpec>,
     /// Loads of the fluid on mesh walls, sampled with the diagnostics (default none): the
     /// columns `F_<name>_x`, `F_<name>_y` (`_z`) in N (2D: N per m of width) and the moment
     /// `M_<name>` (3D: `M_<name>_x`, `_y`, `_z`) in N m (2D: N m per m) each.
@@ -133,6 +137,7 @@ impl Default for OutputSpec {
             sample_interval: 0.005,
             vtk: true,
             probes: Vec::new(),
+            heights: Vec::new(),
             loads: Vec::new(),
             surface: None,
         }
@@ -148,6 +153,18 @@ pub struct ProbeSpec {
     /// Column name (letters, digits, '-', '_' or '.'), written as `p_<name>`.
     pub name: String,
     /// Where, in m (one coordinate per dimension).
+    pub position: Vec<Real>,
+}
+
+/// A water-level gauge, as the wave gauges of an experiment read the free surface: the top of
+/// the particles along a vertical line (the last axis: y in 2D, z in 3D), the same coordinate
+/// the scene's positions use (`geosph_runner::HeightGauges`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HeightSpec {
+    /// Column name (letters, digits, '-', '_' or '.'), written as `h_<name>`.
+    pub name: String,
+    /// Where, in m: the horizontal coordinates (x in 2D; x and y in 3D).
     pub position: Vec<Real>,
 }
 

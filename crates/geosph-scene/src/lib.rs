@@ -55,8 +55,8 @@ pub mod validate;
 
 pub use body_spec::{BodyShape, BodySpec};
 pub use format::{
-    FluidSpec, HealthSpec, InitialVelocity, LoadSpec, OutputSpec, ProbeSpec, Region, Scene,
-    SolverSpec, SurfaceSpec, WallSpec,
+    FluidSpec, HealthSpec, HeightSpec, InitialVelocity, LoadSpec, OutputSpec, ProbeSpec, Region,
+    Scene, SolverSpec, SurfaceSpec, WallSpec,
 };
 pub use regions::BlockReport;
 pub use setup::{LoadSurface, Setup, build};

@@ -84,6 +84,42 @@ impl Scene {
         Ok(())
     }
 
+    /// Water-level gauges: names as for probes; the horizontal coordinates, finite.
+    fn validate_heights(&self, dimension: usize) -> Result<(), SceneError> {
+        let heights = &self.output.heights;
+        for (k, gauge) in heights.iter().enumerate() {
+            let field = format!("output.heights[{k}]");
+            if !plain_name(&gauge.name) {
+                return Err(fail(
+                    format!("{field}.name"),
+                    format!(
+                        "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.', \
+                         as it names a CSV column; got {:?}",
+                        gauge.name
+                    ),
+                ));
+            }
+            if heights[..k].iter().any(|other| other.name == gauge.name) {
+                return Err(fail(
+                    format!("{field}.name"),
+                    format!("must be unique, {:?} is used twice", gauge.name),
+                ));
+            }
+            let horizontal = dimension - 1;
+            let position = &gauge.position;
+            if position.len() != horizontal || position.iter().any(|v| !v.is_finite()) {
+                return Err(fail(
+                    format!("{field}.position"),
+                    format!(
+                        "needs {horizontal} finite coordinate(s), the horizontal ones (x in 2D; \
+                         x and y in 3D), got {position:?}"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Load gauges: names as for probes, each on a `Mesh` wall.
     fn validate_loads(&self, dimension: usize) -> Result<(), SceneError> {
         let loads = &self.output.loads;
@@ -173,6 +209,7 @@ impl Scene {
             }
         }
         self.validate_probes(dimension)?;
+        self.validate_heights(dimension)?;
         self.validate_loads(dimension)?;
         crate::body_spec::validate(
             &self.bodies,

@@ -71,7 +71,7 @@ pub(super) fn open_output<const D: usize>(
     scene: &Scene,
     options: &RunOptions,
     observer: &dyn Observer<D>,
-    gauges: [&[String]; 3],
+    gauges: [&[String]; 4],
     restart: Option<&Progress>,
 ) -> Result<Option<RunOutput>, RunError> {
     let Some(dir) = &options.out_dir else {
