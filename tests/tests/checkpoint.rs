@@ -1,7 +1,8 @@
 //! Checkpoint and restart: a run stopped at a checkpoint and restarted writes bitwise the same
 //! frames, `.pvd` series, `diagnostics.csv` and observer samples as the run that was never
 //! stopped, for WCSPH, DFSPH and the soil solver on coarse cases, also after a particle left
-//! the domain; bad restart files are refused with one clear line.
+//! the domain and in 3D with a mesh obstacle, probes and a load gauge; bad restart files are
+//! refused with one clear line.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -223,6 +224,25 @@ fn a_restarted_soil_collapse_matches_the_uninterrupted_run_bitwise() {
     let scene = coarse_collapse();
     let column = slope_failure::Column::of(&scene).unwrap();
     assert_restart_is_bitwise(&scene, "soil", move || RunoutTracker::new(column), 0.045);
+}
+
+/// SPHERIC test 2 (`data/scenes/kleefsman-obstacle.ron`), coarse: 3D, dx = 0.05 m, WCSPH with
+/// δ⁺ shifting, the box a mesh wall, two probes and the box's load gauge; stopped at
+/// t = 0.43 s, as the water strikes the box, and run on to 0.5 s.
+#[test]
+fn a_restarted_3d_impact_on_an_obstacle_matches_the_uninterrupted_run_bitwise() {
+    let mut scene =
+        Scene::from_ron(include_str!("../../data/scenes/kleefsman-obstacle.ron")).unwrap();
+    scene.folder = Some(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/scenes"));
+    scene.dx = 0.05;
+    scene.end_time = 0.5;
+    scene.output.interval = 0.1;
+    let whole = assert_restart_is_bitwise(&scene, "kleefsman", front_tracker(&scene), 0.43);
+    let csv = std::fs::read_to_string(whole.join("diagnostics.csv")).unwrap();
+    assert!(
+        csv.lines().next().unwrap().contains("p_P1"),
+        "the probes are sampled"
+    );
 }
 
 /// A particle leaves the domain at t ≈ 0.1 s; the run stopped at 0.15 s restarts with 100 of
