@@ -48,10 +48,14 @@ def main():
     for ax, (column, title, t_ref, ref, scale, label, limits) in zip(axes, panels):
         ax.plot([s * TIME_SCALE for s in t_ref], [v / scale for v in ref],
                 color="black", lw=1.2, label="Kleefsman et al. (2005), record")
-        for name, run in runs:
-            time, values = columns(os.path.join(run, "diagnostics.csv"), ["time", column])
+        for index, (name, run) in enumerate(runs):
+            path = os.path.join(run, "diagnostics.csv")
+            with open(path) as f:
+                if column not in f.readline().strip().split(","):
+                    continue  # a run from before the scene had this gauge
+            time, values = columns(path, ["time", column])
             values = [0.0 if math.isnan(v) else v / scale for v in values]
-            ax.plot([s * TIME_SCALE for s in time], values, lw=0.8, label=name)
+            ax.plot([s * TIME_SCALE for s in time], values, lw=0.8, label=name, color=f"C{index}")
         if column.startswith("p_"):
             ax.axvspan(3.0, 5.5, color="0.9", zorder=0)
             title += " (grey: the plateau compared)"

@@ -1,7 +1,7 @@
 //! Soil on a structure: the load gauges integrate the soil's stress on mesh walls.
 //!
 //! An elastic soil layer H = 0.3 m deep and L = 1 m long (ρ = 2650 kg/m³, E = 0.84 MPa,
-//! ν = 0.3, plane strain, dx = 0.02 m) rests in the tank of the geometry tests (its bed and
+//! ν = 0.3, plane strain, dx = 0.01 m) rests in the tank of the geometry tests (its bed and
 //! left side), its right side a retaining wall (a plate mesh), each with a load gauge. The
 //! walls are rollers (free slip, during the geostatic stage and after it), so the soil at rest
 //! has no lateral strain: σ_v = −ρ g (H − z) and σ_h = K₀ σ_v with K₀ = ν/(1 − ν) (the

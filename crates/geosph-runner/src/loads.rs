@@ -90,24 +90,26 @@ impl<const D: usize> WallLoads<D> {
         let Some(grid) = self.grid.as_mut() else {
             return;
         };
-        let carried = fluid.pressure.is_some() || fluid.soil.is_some();
+        let carried = fluid.soil.is_some() || fluid.pressure.is_some();
         if !carried || grid.build(&fluid.position).is_err() {
             row.extend(self.columns.iter().map(|_| Real::NAN));
             return;
         }
-        let field = match (&fluid.pressure, &fluid.soil) {
-            (Some(pressure), _) => LoadField::Fluid(FluidField {
+        let grid = &*grid;
+        // Soil first: its stress is what it carries, whatever pressure field it started with.
+        let field = match (&fluid.soil, &fluid.pressure) {
+            (Some(soil), _) => LoadField::Soil(SoilField {
+                soil: fluid,
+                stress: &soil.stress,
+                grid,
+                gravity: self.gravity,
+            }),
+            (None, Some(pressure)) => LoadField::Fluid(FluidField {
                 fluid,
                 pressure,
                 grid,
                 gravity: self.gravity,
                 background_pressure: self.background_pressure,
-            }),
-            (None, Some(soil)) => LoadField::Soil(SoilField {
-                soil: fluid,
-                stress: &soil.stress,
-                grid,
-                gravity: self.gravity,
             }),
             (None, None) => unreachable!("checked above"),
         };

@@ -94,10 +94,10 @@ pub struct OutputSpec {
     /// `p_<name>` (Pa) each in `diagnostics.csv`.
     pub probes: Vec<ProbeSpec>,
     /// Water-level gauges, sampled with the diagnostics (default none): one column
-    /// `h_<name>` (m) each in `diagnostics.csv`, the height of the free surface above the
-    /// gauge's horizontal position.
+    /// `h_<name>` (m) each in `diagnostics.csv`, the height coordinate of the free surface
+    /// at the gauge's horizontal position (an elevation, not a depth).
     pub heights: Vec<HeightSpec>,
-    /// Loads of the fluid on mesh walls, sampled with the diagnostics (default none): the
+    /// Loads of the fluid or soil on mesh walls, sampled with the diagnostics (default none): the
     /// columns `F_<name>_x`, `F_<name>_y` (`_z`) in N (2D: N per m of width) and the moment
     /// `M_<name>` (3D: `M_<name>_x`, `_y`, `_z`) in N m (2D: N m per m) each.
     pub loads: Vec<LoadSpec>,
@@ -170,7 +170,8 @@ pub struct HeightSpec {
 
 /// A load gauge: the force and moment the fluid's pressure exerts on a mesh wall,
 /// F = −∮ p n dA and M = ∮ (x − x_c) × (−p n) dA over the wall's surface (n its normal into
-/// the flow), p interpolated from the fluid at points dx/2 apart on the surface.
+/// the flow), p interpolated from the fluid at points dx/2 apart on the surface; for soil
+/// F = ∮ σ n dA with the soil's stress σ (`geosph_sph::surface_load::stress_load`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec {

@@ -49,7 +49,7 @@ pub struct Setup<const D: usize> {
     pub fixed: Vec<FixedShape<D>>,
 }
 
-/// The surface a load gauge integrates the fluid's pressure over.
+/// The surface a load gauge integrates the fluid's pressure, or the soil's stress, over.
 #[derive(Clone, Debug)]
 pub struct LoadSurface<const D: usize> {
     /// The gauge's name.

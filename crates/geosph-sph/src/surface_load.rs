@@ -101,10 +101,12 @@ pub struct SoilField<'a, const D: usize> {
 /// σ(x_q) = Σ_j V_j W_qj (σ_j + ρ_j (g·(x_j − x_q)) ĝĝᵀ) / Σ_j V_j W_qj,  V_j = m_j/ρ_j,
 ///
 /// and nothing where the normal traction n·σn would pull (soil does not stick to a wall) or no
-/// soil is within the kernel's support. For σ = −p I this is [`pressure_load`]. Only the
-/// vertical stress is extrapolated (the rest of its gradient is not known from equilibrium
-/// alone): on a face across which a horizontal stress grows the average reads it about a
-/// particle spacing into the soil.
+/// soil is within the kernel's support. Only the vertical stress is extrapolated (the rest of
+/// its gradient is not known from equilibrium alone), so for σ = −p I this is
+/// [`pressure_load`] on faces normal to g only: on a vertical face the horizontal stress is the
+/// plain Shepard average over the soil on one side (unbiased along a face over which it
+/// varies with depth only, but near the soil's top, points up to 2h above it read the top
+/// particles' stress), and on a tilted face the vertical part alone is corrected.
 pub fn stress_load<const D: usize, K: Kernel<D>>(
     kernel: &K,
     field: &SoilField<'_, D>,
@@ -117,6 +119,15 @@ pub fn stress_load<const D: usize, K: Kernel<D>>(
         density,
         ..
     } = field.soil;
+    let g = field.gravity.norm();
+    let down = Vector::<3>::from_fn(|k, _| {
+        if k < D && g > 0.0 {
+            field.gravity[k] / g
+        } else {
+            0.0
+        }
+    });
+    let vertical = down * down.transpose();
     integrate(points, about, |point| {
         let (mut weighted, mut weights) = (Tensor3::zeros(), 0.0);
         let mut head = 0.0;
@@ -132,15 +143,7 @@ pub fn stress_load<const D: usize, K: Kernel<D>>(
         if weights <= 0.0 {
             return None;
         }
-        let g = field.gravity.norm();
-        let down = Vector::<3>::from_fn(|k, _| {
-            if k < D && g > 0.0 {
-                field.gravity[k] / g
-            } else {
-                0.0
-            }
-        });
-        let stress = (weighted + down * down.transpose() * head) / weights;
+        let stress = (weighted + vertical * head) / weights;
         let traction =
             Vector::<D>::from_fn(|a, _| (0..D).map(|b| stress[(a, b)] * point.normal[b]).sum());
         (traction.dot(&point.normal) <= 0.0).then_some(traction)
