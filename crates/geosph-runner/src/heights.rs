@@ -39,6 +39,21 @@ impl<const D: usize> HeightGauges<D> {
         &self.columns
     }
 
+    /// Plots the levels against time from `diagnostics.csv` in `dir` into `heights.png`.
+    pub fn plot(&self, dir: &std::path::Path) -> Result<(), geosph_io::Error> {
+        crate::probes::plot_columns(
+            dir,
+            &self.columns,
+            crate::probes::ColumnPlot {
+                file: "heights.png",
+                title: "Water levels",
+                y_label: "h (m)",
+                scale: 1.0,
+                prefix: "h_",
+            },
+        )
+    }
+
     /// Appends each gauge's height (m) to `row`.
     pub fn sample(&mut self, particles: &Particles<D>, row: &mut Vec<Real>) {
         let up = D - 1;

@@ -473,17 +473,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             Some(output) => {
                 output.flush()?;
                 crate::probes::plot_probes(output.dir(), self.probes.columns())?;
-                crate::probes::plot_columns(
-                    output.dir(),
-                    self.heights.columns(),
-                    crate::probes::ColumnPlot {
-                        file: "heights.png",
-                        title: "Water levels",
-                        y_label: "h (m)",
-                        scale: 1.0,
-                        prefix: "h_",
-                    },
-                )?;
+                self.heights.plot(output.dir())?;
                 self.loads.plot(output.dir())?;
                 if let Some(motion) = self.solver.wall_motion() {
                     crate::probes::plot_columns(

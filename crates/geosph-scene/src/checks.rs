@@ -36,6 +36,32 @@ pub(crate) fn in_range(field: &str, value: Real, low: Real, high: Real) -> Resul
     }
 }
 
+/// The name of a gauge that names CSV columns: plain ([`plain_name`]) and unlike every name in
+/// `earlier`, the gauges before it in its list (`field` is the gauge's, e.g.
+/// `output.probes[2]`).
+pub(crate) fn column_name<'a>(
+    field: &str,
+    name: &str,
+    mut earlier: impl Iterator<Item = &'a str>,
+) -> Result<(), SceneError> {
+    if !plain_name(name) {
+        return Err(fail(
+            format!("{field}.name"),
+            format!(
+                "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.', as it names \
+                 CSV columns; got {name:?}"
+            ),
+        ));
+    }
+    if earlier.any(|other| other == name) {
+        return Err(fail(
+            format!("{field}.name"),
+            format!("must be unique, {name:?} is used twice"),
+        ));
+    }
+    Ok(())
+}
+
 /// 1 to [`MAX_NAME_LENGTH`] ASCII letters, digits, '-', '_' or '.': safe in a file name and
 /// in a CSV header.
 pub(crate) fn plain_name(name: &str) -> bool {

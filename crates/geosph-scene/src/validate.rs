@@ -3,7 +3,9 @@
 use geosph_core::Real;
 use geosph_kernels::KernelKind;
 
-use crate::checks::{boxed, fail, in_range, mesh_placement, plain_name, point, positive};
+use crate::checks::{
+    boxed, column_name, fail, in_range, mesh_placement, plain_name, point, positive,
+};
 pub use crate::error::SceneError;
 use crate::format::{FluidSpec, InitialVelocity, Region, Scene, SolverSpec, WallSpec};
 
@@ -59,22 +61,8 @@ impl Scene {
             ));
         }
         for (k, probe) in probes.iter().enumerate() {
-            if !plain_name(&probe.name) {
-                return Err(fail(
-                    format!("output.probes[{k}].name"),
-                    format!(
-                        "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.', \
-                         as it names a CSV column; got {:?}",
-                        probe.name
-                    ),
-                ));
-            }
-            if probes[..k].iter().any(|other| other.name == probe.name) {
-                return Err(fail(
-                    format!("output.probes[{k}].name"),
-                    format!("must be unique, {:?} is used twice", probe.name),
-                ));
-            }
+            let earlier = probes[..k].iter().map(|p| p.name.as_str());
+            column_name(&format!("output.probes[{k}]"), &probe.name, earlier)?;
             point(
                 &format!("output.probes[{k}].position"),
                 &probe.position,
@@ -89,22 +77,8 @@ impl Scene {
         let heights = &self.output.heights;
         for (k, gauge) in heights.iter().enumerate() {
             let field = format!("output.heights[{k}]");
-            if !plain_name(&gauge.name) {
-                return Err(fail(
-                    format!("{field}.name"),
-                    format!(
-                        "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.', \
-                         as it names a CSV column; got {:?}",
-                        gauge.name
-                    ),
-                ));
-            }
-            if heights[..k].iter().any(|other| other.name == gauge.name) {
-                return Err(fail(
-                    format!("{field}.name"),
-                    format!("must be unique, {:?} is used twice", gauge.name),
-                ));
-            }
+            let earlier = heights[..k].iter().map(|h| h.name.as_str());
+            column_name(&field, &gauge.name, earlier)?;
             let horizontal = dimension - 1;
             let position = &gauge.position;
             if position.len() != horizontal || position.iter().any(|v| !v.is_finite()) {
@@ -125,22 +99,8 @@ impl Scene {
         let loads = &self.output.loads;
         for (k, load) in loads.iter().enumerate() {
             let field = format!("output.loads[{k}]");
-            if !plain_name(&load.name) {
-                return Err(fail(
-                    format!("{field}.name"),
-                    format!(
-                        "must be 1 to {MAX_NAME_LENGTH} letters, digits, '-', '_' or '.', \
-                         as it names CSV columns; got {:?}",
-                        load.name
-                    ),
-                ));
-            }
-            if loads[..k].iter().any(|other| other.name == load.name) {
-                return Err(fail(
-                    format!("{field}.name"),
-                    format!("must be unique, {:?} is used twice", load.name),
-                ));
-            }
+            let earlier = loads[..k].iter().map(|l| l.name.as_str());
+            column_name(&field, &load.name, earlier)?;
             if !matches!(self.walls.get(load.wall), Some(WallSpec::Mesh { .. })) {
                 return Err(fail(
                     format!("{field}.wall"),
