@@ -70,6 +70,40 @@ fn dam_break_front_and_height_follow_martin_moyce() {
     }
 }
 
+/// The shipped 3D dam break, a slab periodic across y, meets the 2D case's Martin & Moyce bounds
+/// through all 15 front points (t = 0.8 s) with fewer wall than fluid particles: the flow
+/// wraps across y, so no side wall slows it, and the tank has walls only on its floor and ends.
+#[test]
+fn dam_break_3d_periodic_slab_follows_martin_moyce_with_fewer_walls_than_fluid() {
+    let mut scene = Scene::from_ron(include_str!("../../data/scenes/dam-break-3d.ron")).unwrap();
+    scene.end_time = 0.8;
+    scene.output.vtk = false;
+    scene.output.surface = None;
+    let report = dam_break::run(&scene, &RunOptions::default()).unwrap();
+    let validation = report.validation.expect("the column has n² = 2");
+    println!("{}\n{validation}", report.summary);
+    let summary = &report.summary;
+    assert!(
+        summary.wall_particles < summary.fluid_particles,
+        "{} wall for {} fluid particles",
+        summary.wall_particles,
+        summary.fluid_particles
+    );
+    assert_eq!(validation.front_points, 15);
+    assert!(
+        validation.front_rms < 0.35 && validation.front_max < 0.5,
+        "front RMS {}, max {}",
+        validation.front_rms,
+        validation.front_max
+    );
+    assert!(
+        validation.height_rms < 0.08,
+        "height RMS {}",
+        validation.height_rms
+    );
+    assert_eq!(validation.ahead_of_ritter, None);
+}
+
 /// With particle shifting the coarse dam break meets the same bounds, and through the wall
 /// impact (t = 1 s) no particle leaves the tank through a wall: a shift is limited to
 /// 0.1 dx per step (without the limit two particles left at t ≈ 0.92 s, `docs/fluid.md`).

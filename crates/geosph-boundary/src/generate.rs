@@ -127,14 +127,31 @@ pub fn tank<const D: usize>(
     open_top: bool,
     rest_density: Real,
 ) -> WallParticles<D> {
+    tank_open_along(min, max, dx, layers, open_top, [false; D], rest_density)
+}
+
+/// A [`tank`] without walls across the faces of the `open` axes: the tank of a slab that is
+/// periodic along those axes, whose flow wraps around instead of meeting a wall. Along an open
+/// axis the layers span `[min, max)` only, so a quasi-2D slab of width w costs the walls of its
+/// floor and end faces, w/dx lattice rows deep, and none of the side walls of a closed box.
+pub fn tank_open_along<const D: usize>(
+    min: &Vector<D>,
+    max: &Vector<D>,
+    dx: Real,
+    layers: usize,
+    open_top: bool,
+    open: [bool; D],
+    rest_density: Real,
+) -> WallParticles<D> {
     let layers = layers as i64;
     let mut lower = [0_i64; D];
     let mut upper = [0_i64; D];
     let mut inner = [0_i64; D];
     for k in 0..D {
         inner[k] = cell_count(max[k] - min[k], dx) as i64;
-        lower[k] = -layers;
-        upper[k] = inner[k] + layers;
+        let thickness = if open[k] { 0 } else { layers };
+        lower[k] = -thickness;
+        upper[k] = inner[k] + thickness;
     }
     if open_top {
         upper[D - 1] = inner[D - 1];
@@ -246,6 +263,19 @@ mod tests {
             1000.0,
         );
         assert_eq!(closed.len(), 14 * 14 * 14 - 10 * 10 * 10);
+        // A slab periodic along y: floor and end walls, each 10 rows across, no side walls.
+        let slab = tank_open_along(
+            &Vector::<3>::zeros(),
+            &Vector::<3>::repeat(1.0),
+            dx,
+            3,
+            true,
+            [false, true, false],
+            1000.0,
+        );
+        assert_eq!(slab.len(), (16 * 13 - 10 * 10) * 10);
+        assert!(slab.position.iter().all(|x| x[1] > 0.0 && x[1] < 1.0));
+        assert!(slab.normal.iter().all(|n| n[1] == 0.0));
     }
 
     #[test]

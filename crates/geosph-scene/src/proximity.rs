@@ -1,5 +1,6 @@
-//! Which particles of one set come too close to another's.
+//! Which particles of one set come too close to another's, or lie inside a wall's layers.
 
+use geosph_boundary::generate::FlowSide;
 use geosph_core::{Real, Vector};
 
 /// The first fluid particle `i` closer than `gap` (minus round-off) to a wall particle `j`, with
@@ -31,6 +32,40 @@ pub(crate) fn overlap<const D: usize>(
                 if distance < limit {
                     return Some((i, j, distance));
                 }
+            }
+        }
+    }
+    None
+}
+
+/// The first fluid particle that lies behind the polyline `points` (on the side away from
+/// the flow, beyond round-off) by less than `thickness`, i.e. inside the wall's particle
+/// layers, with how far behind it is. Only the first two coordinates count.
+pub(crate) fn behind_polyline<const D: usize>(
+    fluid: &[Vector<D>],
+    points: &[Vector<2>],
+    flow: FlowSide,
+    thickness: Real,
+) -> Option<(usize, Real)> {
+    for segment in points.windows(2) {
+        let (start, end) = (segment[0], segment[1]);
+        let length = (end - start).norm();
+        if length <= 0.0 {
+            continue;
+        }
+        let tangent = (end - start) / length;
+        let left = Vector::<2>::new(-tangent[1], tangent[0]);
+        let into_flow = match flow {
+            FlowSide::Left => left,
+            FlowSide::Right => -left,
+        };
+        let round_off = 1e-9 * length;
+        for (i, x) in fluid.iter().enumerate() {
+            let relative = Vector::<2>::new(x[0], x[1]) - start;
+            let along = relative.dot(&tangent);
+            let behind = -relative.dot(&into_flow);
+            if along >= 0.0 && along <= length && behind > round_off && behind < thickness {
+                return Some((i, behind));
             }
         }
     }

@@ -93,40 +93,6 @@ fn to_dimension<const D: usize>(plane: WallParticles<2>) -> WallParticles<D> {
     }
 }
 
-/// The first fluid particle that lies behind the polyline `points` (on the side away from
-/// the flow, beyond round-off) by less than `thickness`, i.e. inside the wall's particle
-/// layers, with how far behind it is. Only the first two coordinates count.
-fn behind_polyline<const D: usize>(
-    fluid: &[Vector<D>],
-    points: &[Vector<2>],
-    flow: generate::FlowSide,
-    thickness: Real,
-) -> Option<(usize, Real)> {
-    for segment in points.windows(2) {
-        let (start, end) = (segment[0], segment[1]);
-        let length = (end - start).norm();
-        if length <= 0.0 {
-            continue;
-        }
-        let tangent = (end - start) / length;
-        let left = Vector::<2>::new(-tangent[1], tangent[0]);
-        let into_flow = match flow {
-            generate::FlowSide::Left => left,
-            generate::FlowSide::Right => -left,
-        };
-        let round_off = 1e-9 * length;
-        for (i, x) in fluid.iter().enumerate() {
-            let relative = Vector::<2>::new(x[0], x[1]) - start;
-            let along = relative.dot(&tangent);
-            let behind = -relative.dot(&into_flow);
-            if along >= 0.0 && along <= length && behind > round_off && behind < thickness {
-                return Some((i, behind));
-            }
-        }
-    }
-    None
-}
-
 /// The dummy particles behind a mesh wall ([`WallSpec::Mesh`]): `placement` is its file,
 /// scale, offset and section.
 fn mesh_walls<const D: usize>(
@@ -324,7 +290,16 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                 open_top,
             } => {
                 let (min, max) = (vector::<D>(min), vector::<D>(max));
-                let tank = generate::tank(&min, &max, dx, *layers, *open_top, rest_density);
+                let open = periodic_span::<D>(scene, &format!("walls[{index}]"), &min, &max)?;
+                let tank = generate::tank_open_along(
+                    &min,
+                    &max,
+                    dx,
+                    *layers,
+                    *open_top,
+                    open,
+                    rest_density,
+                );
                 let margin = 1e-9 * dx;
                 if let Some(i) = fluid.position.iter().position(|x| {
                     (0..D).any(|k| {
@@ -355,9 +330,12 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     .iter()
                     .map(|&(x, y)| Vector::<2>::new(x, y))
                     .collect();
-                if let Some((i, behind)) =
-                    behind_polyline(&fluid.position, &points, *flow_side, *layers as Real * dx)
-                {
+                if let Some((i, behind)) = crate::proximity::behind_polyline(
+                    &fluid.position,
+                    &points,
+                    *flow_side,
+                    *layers as Real * dx,
+                ) {
                     return Err(SceneError::Field {
                         field: format!("walls[{index}]"),
                         message: format!(
@@ -510,4 +488,35 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         bodies,
         fixed,
     })
+}
+
+/// The periodic axes of the scene's domain, along which a tank has no walls: there the tank
+/// must span the domain's period exactly, or its flow would wrap into its own walls.
+fn periodic_span<const D: usize>(
+    scene: &Scene,
+    field: &str,
+    min: &Vector<D>,
+    max: &Vector<D>,
+) -> Result<[bool; D], SceneError> {
+    let mut periodic = [false; D];
+    let Some(domain) = &scene.domain else {
+        return Ok(periodic);
+    };
+    for (k, &p) in domain.periodic.iter().enumerate().take(D) {
+        periodic[k] = p;
+        let tolerance = 1e-9 * scene.dx;
+        if p && ((min[k] - domain.min[k]).abs() > tolerance
+            || (max[k] - domain.max[k]).abs() > tolerance)
+        {
+            return Err(SceneError::Field {
+                field: field.into(),
+                message: format!(
+                    "axis {k} is periodic, so the tank has no walls across it and must span the \
+                     domain's period [{}, {}] exactly, not [{}, {}]",
+                    domain.min[k], domain.max[k], min[k], max[k]
+                ),
+            });
+        }
+    }
+    Ok(periodic)
 }
