@@ -142,3 +142,17 @@ fn dam_break_3d_is_bitwise_identical_for_1_2_and_4_threads() {
     let results = run_with_threads(&scene, "3d");
     assert_identical(&results);
 }
+
+/// 3D soil: the axisymmetric collapse (`data/scenes/axisymmetric-collapse.ron`), coarse (five
+/// particles across the column's radius), through its geostatic stage and the release.
+#[test]
+fn soil_3d_collapse_is_bitwise_identical_for_1_2_and_4_threads() {
+    let mut scene =
+        Scene::from_ron(include_str!("../../data/scenes/axisymmetric-collapse.ron")).unwrap();
+    scene.folder = Some(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/scenes"));
+    scene.dx = 0.04;
+    scene.end_time = 0.06;
+    scene.output.interval = 0.03;
+    let results = run_with_threads(&scene, "soil-3d");
+    assert_identical(&results);
+}

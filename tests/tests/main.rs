@@ -1,4 +1,5 @@
 //! Validation tests of geosph: one test binary, one module per subject.
+mod axisymmetric_collapse;
 mod blow_up;
 mod bodies;
 mod checkpoint;

@@ -8,7 +8,8 @@
 //! [`nguyen2015`]) next to the runner's VTU frames.
 //!
 //! The column is the scene's first soil block (a box) with its back wall at the box's lower x;
-//! the soil runs out towards +x. `main.rs` is a thin command line around [`run`], the
+//! the soil runs out towards +x. A 3D scene whose first soil block is not a box (a cylinder
+//! from a mesh) is measured about the soil's vertical axis instead ([`axisymmetric`]). `main.rs` is a thin command line around [`run`], the
 //! factor-of-safety search ([`factor_of_safety`]) and the aspect-ratio series
 //! ([`aspect_ratios`]).
 #![warn(missing_docs)]
@@ -18,6 +19,7 @@ use geosph_runner::{Observer, RunOptions, push_records, take_records};
 use geosph_scene::{Region, Scene};
 
 pub mod aspect_ratios;
+pub mod axisymmetric;
 pub mod bui2008;
 pub mod factor_of_safety;
 pub mod nguyen2015;

@@ -146,6 +146,24 @@ fn main() -> ExitCode {
         .fluid
         .as_ref()
         .is_none_or(|soil| matches!(soil.blocks.first(), Some(Region::Box { .. })));
+    if !column && scene.dimension == 3 {
+        eprintln!(
+            "slope-failure: the first soil block is not a box: the deposit is measured about the soil's vertical axis, as an axisymmetric column's"
+        );
+        return match slope_failure::axisymmetric::run(&scene, &options) {
+            Ok(report) => {
+                println!("{}", report.summary);
+                println!("{report}");
+                println!(
+                    "output             {} (open {}.pvd in ParaView; radial_runout, height_at_axis in diagnostics.csv)",
+                    out.display(),
+                    scene.name
+                );
+                ExitCode::SUCCESS
+            }
+            Err(error) => failure(error, None),
+        };
+    }
     if !column {
         eprintln!(
             "slope-failure: the first soil block is not a box, so no column to measure: VTU frames and diagnostics only"

@@ -442,6 +442,7 @@ mod tests {
         for text in [
             include_str!("../../../data/scenes/dam-break-2d.ron"),
             include_str!("../../../data/scenes/dam-break-3d.ron"),
+            include_str!("../../../data/scenes/axisymmetric-collapse.ron"),
         ] {
             let scene = Scene::from_ron(text).unwrap();
             scene.validate().unwrap();
