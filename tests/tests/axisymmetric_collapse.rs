@@ -1,15 +1,16 @@
-//! The axisymmetric collapse of a granular column in 3D (`data/scenes/axisymmetric-collapse.ron`)
-//! against the runout law of Lube, Huppert, Sparks & Hallworth (2004): (r∞ − r₀)/r₀ = 1.24 a for
-//! a ≤ 1.7 (`slope_failure::axisymmetric`).
+//! The axisymmetric collapse of a granular column in 3D against the runout law of Lube,
+//! Huppert, Sparks & Hallworth (2004): (r∞ − r₀)/r₀ = 1.24 a for a ≤ 1.7
+//! (`slope_failure::axisymmetric`).
 //!
-//! Tolerance: the law is a fit through columns of several materials, radii and floors; its
-//! band here is ±25 %, the spread of the runout fits published for the same collapse by
-//! the two groups that measured it in 2004 (Lube et al. for sand and salt; Lajeunesse,
-//! Mangeney-Castelnau & Vilotte for glass beads, quoted with 1.0 a–1.35 a below a = 0.74 in
-//! later reviews) and of Warnett et al.'s (2014, Granular Matter 16:115) finding that the
-//! final radius also depends on the column-to-grain size ratio, which the fit leaves out.
-//! Coarse: the column has 10 particles across its radius (dx = 0.02 m; the shipped scene
-//! 20); `docs/soil.md` ("Axisymmetric collapse") holds the finer runs.
+//! The column is the shipped scene's (`data/scenes/axisymmetric-collapse.ron`) at a = 0.5
+//! (r₀ = 0.2 m, h₀ = 0.1 m, its meshes `axisymmetric-a0.5-*.obj`) with 20 particles across r₀
+//! (dx = 0.01 m): at 10 the thin edge of the deposit is not resolved and the toe falls 20–30 %
+//! short (`docs/soil.md`, "Axisymmetric collapse in 3D").
+//!
+//! Tolerance: below a = 0.74 the runout fits of the two groups that measured the collapse in
+//! 2004 are quoted as 1.24 a (Lube et al., sand and salt) and 1.0 a to 1.35 a (Lajeunesse,
+//! Mangeney-Castelnau & Vilotte, glass beads): (r∞ − r₀)/r₀ within −19.4 % and +8.9 % of
+//! Lube et al.'s law.
 
 use std::path::PathBuf;
 
@@ -18,16 +19,32 @@ use geosph_scene::Scene;
 use slope_failure::axisymmetric;
 
 #[test]
-fn axisymmetric_column_runs_out_as_lube_et_al_found() {
-    let mut scene =
-        Scene::from_ron(include_str!("../../data/scenes/axisymmetric-collapse.ron")).unwrap();
+fn axisymmetric_column_runs_out_as_the_experiments_found() {
+    let text = include_str!("../../data/scenes/axisymmetric-collapse.ron")
+        .replace("axisymmetric-a1-", "axisymmetric-a0.5-")
+        .replacen(
+            "Tank(min: [-0.6, -0.6, 0.0], max: [0.6, 0.6, 0.02]",
+            "Tank(min: [-0.45, -0.45, 0.0], max: [0.45, 0.45, 0.02]",
+            1,
+        );
+    assert!(text.contains("axisymmetric-a0.5-gate") && text.contains("0.45, 0.45"));
+    let mut scene = Scene::from_ron(&text).unwrap();
     scene.folder = Some(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/scenes"));
-    scene.dx = 0.02;
-    scene.output.vtk = false;
-    let report = axisymmetric::run(&scene, &RunOptions::default()).unwrap();
+    scene.end_time = 0.6;
+    scene.output.interval = 0.2;
+    // The frames (3D soil: stress, p, q, plastic strain) are read by VTK in `.ci/run`.
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("axisymmetric-collapse");
+    let _ = std::fs::remove_dir_all(&out);
+    let options = RunOptions {
+        out_dir: Some(out),
+        ..Default::default()
+    };
+    let report = axisymmetric::run(&scene, &options).unwrap();
     println!("{}\n{report}", report.summary);
-    let a = report.column.aspect_ratio();
-    assert!((a - 1.0).abs() < 0.02, "aspect ratio {a}");
+    let column = report.column;
+    assert!(column.cylinder);
+    assert!((column.aspect_ratio() - 0.5).abs() < 0.01, "{column:?}");
+    assert_eq!(report.summary.escaped, 0);
     // The column came to rest: the deposit did not move over the last 0.1 s.
     let samples = &report.samples;
     let before = samples
@@ -41,12 +58,12 @@ fn axisymmetric_column_runs_out_as_lube_et_al_found() {
         before.runout,
         report.last.runout
     );
-    let error = report.runout_ratio() / report.law() - 1.0;
+    let ratio = report.runout_ratio() / report.law();
     assert!(
-        error.abs() <= 0.25,
+        (1.0 / 1.24..=1.35 / 1.24).contains(&ratio),
         "(r - r0)/r0 = {:.3} against {:.3}: {:+.1} %",
         report.runout_ratio(),
         report.law(),
-        100.0 * error
+        100.0 * (ratio - 1.0)
     );
 }

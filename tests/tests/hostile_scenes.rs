@@ -128,6 +128,7 @@ const CASES: &[(&str, &str, &str)] = &[
     ("polyline repeating a point", "walls: [Tank(min: [0.0, 0.0], max: [2.0, 2.0], layers: 3, open_top: true)], => walls: [Polyline(points: [(0.0, 0.0), (0.0, 0.0), (1.0, 0.0)])],", "`walls[0].points[1]`: repeats the point before it"),
     ("domain inverted", "walls: [ => domain: (min: [0.0, 0.0], max: [-1.0, 3.0]), walls: [", "`domain.max`: must exceed min on axis 0"),
     ("tank short of a periodic axis", "walls: [ => domain: (min: [-1.0, -1.0], max: [2.0, 3.0], periodic: [true, false]), walls: [", "`walls[0]`: axis 0 is periodic, so the tank has no walls across it and must span the domain's period [-1, 2] exactly, not [0, 2]"),
+    ("period not a whole number of dx", "walls: [Tank(min: [0.0, 0.0], max: [2.0, 2.0] => domain: (min: [-0.05, -1.0], max: [2.0, 3.0], periodic: [true, false]), walls: [Tank(min: [-0.05, 0.0], max: [2.0, 2.0]", "its period 2.05 m holds 20.500 lattice spacings of dx = 0.1 m: choose a dx that divides the period"),
     ("periodic list too long", "walls: [ => domain: (min: [-1.0, -1.0], max: [3.0, 3.0], periodic: [true, false, true]), walls: [", "`domain.periodic`: needs 2 entries or none, got 3"),
 ];
 

@@ -47,6 +47,10 @@ pub struct AxisymmetricColumn {
     pub base: Real,
     /// Particle spacing dx.
     pub spacing: Real,
+    /// Whether the particles fill a vertical cylinder: their outermost distance from the axis
+    /// plus dx/2 is r₀ within dx (a box, a slope or a terrain slide is not one, and no law
+    /// is compared).
+    pub cylinder: bool,
 }
 
 impl AxisymmetricColumn {
@@ -70,9 +74,14 @@ impl AxisymmetricColumn {
         // The cylinder of the particles' volume N dx³: the lattice's outermost sites lie up to
         // dx/2 inside the circle they fill.
         let radius = (n * dx.powi(3) / (std::f64::consts::PI * height)).sqrt();
+        let outermost = position
+            .iter()
+            .map(|x| (x[0] - axis[0]).hypot(x[1] - axis[1]))
+            .fold(0.0, Real::max);
         Some(Self {
             axis,
             radius,
+            cylinder: (outermost + 0.5 * dx - radius).abs() <= dx,
             height,
             base: low - 0.5 * dx,
             spacing: dx,
@@ -91,8 +100,8 @@ impl AxisymmetricColumn {
 
     /// The grain toe of particles at radii `r_descending` (sorted in descending order): the
     /// outer edge (r + dx/2) of the outermost particle that has, within b = h₀/10 inside it,
-    /// enough particles to cover that ring b wide one layer (dx) thick, ⌈2π r b / dx²⌉
-    /// (itself included). Zero if no particle qualifies.
+    /// enough particles to cover the ring r − b … r one layer (dx) thick,
+    /// ⌈π b (2r − b) / dx²⌉ (itself included). Zero if no particle qualifies.
     pub fn toe(&self, r_descending: &[Real]) -> Real {
         let dx = self.spacing;
         let window = 0.1 * self.height;
@@ -100,9 +109,8 @@ impl AxisymmetricColumn {
             .iter()
             .enumerate()
             .find(|&(i, &r)| {
-                let needed = ((2.0 * std::f64::consts::PI * r * window / (dx * dx)) - 1e-9)
-                    .ceil()
-                    .max(1.0) as usize;
+                let ring = std::f64::consts::PI * window * (2.0 * r - window).max(window);
+                let needed = (ring / (dx * dx) - 1e-9).ceil().max(1.0) as usize;
                 r_descending
                     .get(i + needed - 1)
                     .is_some_and(|&inner| r - inner <= window)
@@ -177,12 +185,13 @@ impl<const D: usize> Observer<D> for RadialDeposit {
                 .map(|x| x[D - 1]),
         );
         self.heights.sort_by(Real::total_cmp);
+        // From the centre of the first layer on the floor up, without a gap of 2 dx.
         let mut top = None;
         for &z in &self.heights {
-            match top {
-                Some(t) if z - t > 2.0 * dx => break,
-                _ => top = Some(z),
+            if z - top.unwrap_or(column.base + 0.5 * dx) > 2.0 * dx {
+                break;
             }
+            top = Some(z);
         }
         let height = top.map_or(0.0, |z| z + 0.5 * dx - column.base);
         row.extend_from_slice(&[runout, farthest, height]);
@@ -205,18 +214,16 @@ impl<const D: usize> Observer<D> for RadialDeposit {
     }
 
     fn restore_state(&mut self, mut state: &[Real]) -> Result<(), String> {
-        self.column =
-            take_records(&mut state)?
-                .first()
-                .map(
-                    |&[x, y, radius, height, base, spacing]| AxisymmetricColumn {
-                        axis: [x, y],
-                        radius,
-                        height,
-                        base,
-                        spacing,
-                    },
-                );
+        self.column = take_records(&mut state)?.first().map(
+            |&[x, y, radius, height, base, spacing, cylinder]| AxisymmetricColumn {
+                axis: [x, y],
+                radius,
+                height,
+                base,
+                spacing,
+                cylinder: cylinder != 0.0,
+            },
+        );
         self.samples = take_records(&mut state)?
             .into_iter()
             .map(|[time, runout, farthest, height]| RadialSample {
@@ -241,7 +248,7 @@ impl RadialSample {
 }
 
 impl AxisymmetricColumn {
-    fn record(&self) -> [Real; 6] {
+    fn record(&self) -> [Real; 7] {
         [
             self.axis[0],
             self.axis[1],
@@ -249,6 +256,7 @@ impl AxisymmetricColumn {
             self.height,
             self.base,
             self.spacing,
+            Real::from(u8::from(self.cylinder)),
         ]
     }
 }
@@ -297,13 +305,20 @@ impl std::fmt::Display for AxisymmetricReport {
             self.runout_ratio(),
             self.last.farthest
         )?;
-        writeln!(
-            f,
-            "  vs Lube et al. (2004)  (r - r0)/r0 = {:.3} at a = {:.2}: {:+.1} %",
-            self.law(),
-            column.aspect_ratio(),
-            100.0 * (self.runout_ratio() / self.law() - 1.0)
-        )?;
+        if column.cylinder {
+            writeln!(
+                f,
+                "  vs Lube et al. (2004)  (r - r0)/r0 = {:.3} at a = {:.2}: {:+.1} %",
+                self.law(),
+                column.aspect_ratio(),
+                100.0 * (self.runout_ratio() / self.law() - 1.0)
+            )?;
+        } else {
+            writeln!(
+                f,
+                "  the soil is not a vertical cylinder: no axisymmetric law compared"
+            )?;
+        }
         write!(
             f,
             "height on the axis {:.4} m (h/r0 = {:.3}, h/h0 = {:.3})",
@@ -372,6 +387,7 @@ mod tests {
             height: 0.1,
             base: 0.0,
             spacing: dx,
+            cylinder: true,
         };
         let toe = |position: &[Vector<3>]| {
             let mut r: Vec<Real> = position.iter().map(|x| column.radial(x)).collect();
@@ -391,5 +407,64 @@ mod tests {
         assert!((toe(&position) - radius).abs() <= dx);
         let measured = AxisymmetricColumn::of(&position[..1], dx).unwrap();
         assert_eq!(measured.height, dx);
+    }
+
+    /// Lattice sites of spacing dx in the box `[-half, half]² × [0, height]` whose distance
+    /// from the z axis is below `radius`.
+    fn lattice(half: Real, height: Real, radius: Real, dx: Real) -> Vec<Vector<3>> {
+        let (n, layers) = ((half / dx).round() as i64, (height / dx).round() as i64);
+        let mut position = Vec::new();
+        for k in 0..layers {
+            for j in -n..n {
+                for i in -n..n {
+                    let x = Vector::<3>::new(
+                        (i as Real + 0.5) * dx,
+                        (j as Real + 0.5) * dx,
+                        (k as Real + 0.5) * dx,
+                    );
+                    if x[0].hypot(x[1]) < radius {
+                        position.push(x);
+                    }
+                }
+            }
+        }
+        position
+    }
+
+    #[test]
+    fn a_cylinder_is_measured_and_a_box_is_not_one() {
+        let dx = 0.01;
+        let cylinder = AxisymmetricColumn::of(&lattice(0.1, 0.1, 0.1, dx), dx).unwrap();
+        assert!(cylinder.cylinder);
+        assert!(
+            (cylinder.radius - 0.1).abs() < 0.01 * 0.1,
+            "{}",
+            cylinder.radius
+        );
+        assert!((cylinder.height - 0.1).abs() < 1e-12);
+        assert!((cylinder.aspect_ratio() - 1.0).abs() < 0.01);
+        let square = AxisymmetricColumn::of(&lattice(0.1, 0.1, 1.0, dx), dx).unwrap();
+        assert!(!square.cylinder);
+    }
+
+    /// The series and the column survive a checkpoint: restored into a fresh tracker, the
+    /// state saves to the same numbers.
+    #[test]
+    fn the_radial_series_is_restored_from_its_saved_state() {
+        let dx = 0.01;
+        let soil = Particles::at_rest(lattice(0.1, 0.1, 0.1, dx), 1.0, 1000.0);
+        let mut tracker = RadialDeposit::new(dx);
+        let mut row = Vec::new();
+        for time in [0.0, 0.1] {
+            Observer::<3>::sample(&mut tracker, time, &soil, &mut row);
+        }
+        let state = Observer::<3>::save_state(&tracker);
+        let mut restored = RadialDeposit::new(dx);
+        Observer::<3>::restore_state(&mut restored, &state).unwrap();
+        assert_eq!(restored.column, tracker.column);
+        assert_eq!(restored.samples, tracker.samples);
+        // The column's height on its axis: ten layers.
+        assert!((tracker.samples[1].height - 0.1).abs() < 1e-12);
+        assert!(Observer::<3>::restore_state(&mut restored, &state[..state.len() - 1]).is_err());
     }
 }

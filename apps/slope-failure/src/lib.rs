@@ -9,9 +9,9 @@
 //!
 //! The column is the scene's first soil block (a box) with its back wall at the box's lower x;
 //! the soil runs out towards +x. A 3D scene whose first soil block is not a box (a cylinder
-//! from a mesh) is measured about the soil's vertical axis instead ([`axisymmetric`]). `main.rs` is a thin command line around [`run`], the
-//! factor-of-safety search ([`factor_of_safety`]) and the aspect-ratio series
-//! ([`aspect_ratios`]).
+//! from a mesh) is measured about the soil's vertical axis instead ([`axisymmetric`]).
+//! `main.rs` is a thin command line around [`run`], the factor-of-safety search
+//! ([`factor_of_safety`]) and the aspect-ratio series ([`aspect_ratios`]).
 #![warn(missing_docs)]
 
 use geosph_core::{Particles, Real};

@@ -155,7 +155,7 @@ fn main() -> ExitCode {
                 println!("{}", report.summary);
                 println!("{report}");
                 println!(
-                    "output             {} (open {}.pvd in ParaView; radial_runout, height_at_axis in diagnostics.csv)",
+                    "output             {} (open {}.pvd in ParaView; radial_runout, radial_farthest, height_at_axis in diagnostics.csv)",
                     out.display(),
                     scene.name
                 );

@@ -133,7 +133,7 @@ pub fn tank<const D: usize>(
 /// A [`tank`] without walls across the faces of the `open` axes: the tank of a slab that is
 /// periodic along those axes, whose flow wraps around instead of meeting a wall. Along an open
 /// axis the layers span `[min, max)` only, so a quasi-2D slab of width w costs the walls of its
-/// floor and end faces, w/dx lattice rows deep, and none of the side walls of a closed box.
+/// floor and end faces, w/dx lattice rows across, and none of the side walls of a closed box.
 pub fn tank_open_along<const D: usize>(
     min: &Vector<D>,
     max: &Vector<D>,

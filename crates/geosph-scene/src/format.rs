@@ -302,7 +302,9 @@ fn default_true() -> bool {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum WallSpec {
-    /// A tank whose inner space is the box `[min, max]`.
+    /// A tank whose inner space is the box `[min, max]`. It has no walls across a periodic
+    /// axis of the domain (a slab periodic across y has a floor and two end walls); there it
+    /// must span the domain's period, a whole number of dx.
     Tank {
         /// Lower inner corner.
         min: Vec<Real>,

@@ -491,7 +491,10 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
 }
 
 /// The periodic axes of the scene's domain, along which a tank has no walls: there the tank
-/// must span the domain's period exactly, or its flow would wrap into its own walls.
+/// must span the domain's period exactly (shorter, it would leave a strip without floor;
+/// longer, its walls would overlap their own images), and the period must hold a whole number
+/// of lattice spacings (else the last row of particles lies closer than dx to the first
+/// row's image across the seam).
 fn periodic_span<const D: usize>(
     scene: &Scene,
     field: &str,
@@ -514,6 +517,18 @@ fn periodic_span<const D: usize>(
                     "axis {k} is periodic, so the tank has no walls across it and must span the \
                      domain's period [{}, {}] exactly, not [{}, {}]",
                     domain.min[k], domain.max[k], min[k], max[k]
+                ),
+            });
+        }
+        let rows = (domain.max[k] - domain.min[k]) / scene.dx;
+        if p && (rows - rows.round()).abs() > 1e-6 * rows.max(1.0) {
+            return Err(SceneError::Field {
+                field: field.into(),
+                message: format!(
+                    "axis {k} is periodic and its period {} m holds {rows:.3} lattice spacings \
+                     of dx = {} m: choose a dx that divides the period",
+                    domain.max[k] - domain.min[k],
+                    scene.dx
                 ),
             });
         }
