@@ -174,6 +174,41 @@ pub fn tank_open_along<const D: usize>(
     WallParticles::fixed(position, normal, depth, dx.powi(D as i32), rest_density)
 }
 
+/// One segment of a 2D polyline wall with its frame.
+#[derive(Clone, Copy, Debug)]
+pub struct Segment {
+    /// The segment's first point.
+    pub start: Vector<2>,
+    /// Its length (positive).
+    pub length: Real,
+    /// The unit vector from its first point to its last.
+    pub tangent: Vector<2>,
+    /// The unit normal pointing into the flow.
+    pub into_flow: Vector<2>,
+}
+
+/// The segments of the polyline `points` of positive length, with the flow on `flow`'s side.
+pub fn segments(points: &[Vector<2>], flow: FlowSide) -> impl Iterator<Item = Segment> + '_ {
+    points.windows(2).filter_map(move |pair| {
+        let (start, end) = (pair[0], pair[1]);
+        let length = (end - start).norm();
+        (length > 0.0).then(|| {
+            let tangent = (end - start) / length;
+            let left = Vector::<2>::new(-tangent[1], tangent[0]);
+            let into_flow = match flow {
+                FlowSide::Left => left,
+                FlowSide::Right => -left,
+            };
+            Segment {
+                start,
+                length,
+                tangent,
+                into_flow,
+            }
+        })
+    })
+}
+
 /// Dummy particles of a 2D wall along the polyline `points`: on each segment of length L,
 /// ⌈L/dx⌉ particles evenly spaced along it (spacing ≤ dx), `layers` rows deep on the side away
 /// from the flow, row k at depth (k + ½) dx behind the line. Normals point into the flow.
@@ -191,18 +226,13 @@ pub fn polyline(
     let mut position = Vec::new();
     let mut normal = Vec::new();
     let mut depth = Vec::new();
-    for segment in points.windows(2) {
-        let (start, end) = (segment[0], segment[1]);
-        let length = (end - start).norm();
-        if length <= 0.0 {
-            continue;
-        }
-        let tangent = (end - start) / length;
-        let left = Vector::<2>::new(-tangent[1], tangent[0]);
-        let into_flow = match flow {
-            FlowSide::Left => left,
-            FlowSide::Right => -left,
-        };
+    for Segment {
+        start,
+        length,
+        tangent,
+        into_flow,
+    } in segments(points, flow)
+    {
         let count = cell_count(length, dx);
         let spacing = length / count.max(1) as Real;
         for along in 0..count {

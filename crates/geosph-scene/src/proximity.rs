@@ -1,6 +1,6 @@
 //! Which particles of one set come too close to another's, or lie inside a wall's layers.
 
-use geosph_boundary::generate::FlowSide;
+use geosph_boundary::generate::{FlowSide, Segment, segments};
 use geosph_core::{Real, Vector};
 
 /// The first fluid particle `i` closer than `gap` (minus round-off) to a wall particle `j`, with
@@ -47,18 +47,13 @@ pub(crate) fn behind_polyline<const D: usize>(
     flow: FlowSide,
     thickness: Real,
 ) -> Option<(usize, Real)> {
-    for segment in points.windows(2) {
-        let (start, end) = (segment[0], segment[1]);
-        let length = (end - start).norm();
-        if length <= 0.0 {
-            continue;
-        }
-        let tangent = (end - start) / length;
-        let left = Vector::<2>::new(-tangent[1], tangent[0]);
-        let into_flow = match flow {
-            FlowSide::Left => left,
-            FlowSide::Right => -left,
-        };
+    for Segment {
+        start,
+        length,
+        tangent,
+        into_flow,
+    } in segments(points, flow)
+    {
         let round_off = 1e-9 * length;
         for (i, x) in fluid.iter().enumerate() {
             let relative = Vector::<2>::new(x[0], x[1]) - start;
