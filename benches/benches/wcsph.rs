@@ -1,11 +1,17 @@
-//! One full WCSPH step of the default dam break (neighbour update, wall extrapolation, rates,
-//! leap-frog update), at about 10⁴ and 10⁵ fluid particles in 2D, on 1 and 2 threads.
+//! One full WCSPH step (neighbour update, wall extrapolation, rates, leap-frog update) on 1
+//! and 2 threads:
+//! - 2D: the default dam break (a 1 m × 2 m column in a 4 m × 4 m tank) at about 10⁴ and 10⁵
+//!   fluid particles;
+//! - 3D: SPHERIC test 2 (Kleefsman et al. 2005; `data/scenes/kleefsman-obstacle.ron`, a
+//!   closed tank with a box obstacle) at about 10⁴ and 10⁵ fluid particles (its walls
+//!   included in the step, not in the throughput).
 //!
-//! The column is 1 m × 2 m in a 4 m × 4 m tank; the fluid is first advanced 0.05 s so the
-//! flow is under way. With the default Verlet skin (10 % of the support radius) the lists
-//! are rebuilt only every few steps, so the figure is the amortised cost of a step.
+//! The fluid is first advanced 0.05 s so the flow is under way. With the default Verlet skin
+//! (10 % of the support radius) the lists are rebuilt only every few steps, so the figure is
+//! the amortised cost of a step.
 
 use std::hint::black_box;
+use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
@@ -13,13 +19,18 @@ use geosph_fluid::build_wcsph;
 use geosph_scene::{Scene, SolverSpec};
 use geosph_sph::Solver;
 
-/// The dam break at spacing `dx`, advanced to t = 0.05 s.
-fn dam_break(dx: f64) -> (Box<dyn Solver<2>>, geosph_core::Particles<2>, f64) {
-    let mut scene = Scene::from_ron(include_str!("../../data/scenes/dam-break-2d.ron")).unwrap();
+/// The WCSPH scene `text` (its meshes in `data/scenes/`) at spacing `dx`, advanced to
+/// t = 0.05 s.
+fn advanced<const D: usize>(
+    text: &str,
+    dx: f64,
+) -> (Box<dyn Solver<D>>, geosph_core::Particles<D>, f64) {
+    let mut scene = Scene::from_ron(text).unwrap();
+    scene.folder = Some(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/scenes"));
     scene.dx = dx;
-    let (mut fluid, solver_inputs) = geosph_scene::build::<2>(&scene).unwrap().split();
+    let (mut fluid, solver_inputs) = geosph_scene::build::<D>(&scene).unwrap().split();
     let SolverSpec::Wcsph(config) = &scene.solver else {
-        unreachable!("the dam-break scene names WCSPH")
+        unreachable!("the benchmark's scenes name WCSPH")
     };
     let mut solver = build_wcsph(config, solver_inputs, &mut fluid).unwrap();
     let mut time = 0.0;
@@ -29,31 +40,44 @@ fn dam_break(dx: f64) -> (Box<dyn Solver<2>>, geosph_core::Particles<2>, f64) {
     (solver, fluid, time)
 }
 
+/// Steps of `solver` on 1 and 2 threads, with the fluid particle count as throughput.
+fn bench_threads<const D: usize>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    (mut solver, mut fluid, mut time): (Box<dyn Solver<D>>, geosph_core::Particles<D>, f64),
+) {
+    group.throughput(Throughput::Elements(fluid.len() as u64));
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let id = BenchmarkId::new(format!("{D}d/{threads}-threads"), fluid.len());
+        group.bench_function(id, |b| {
+            pool.install(|| {
+                b.iter(|| {
+                    let report = solver.step(&mut fluid, time, 1.0).unwrap();
+                    time += report.dt;
+                    black_box(report)
+                })
+            })
+        });
+    }
+}
+
 fn step(c: &mut Criterion) {
     let mut group = c.benchmark_group("wcsph/step");
     group
         .sample_size(20)
         .measurement_time(Duration::from_secs(8));
     // dx = 0.014 m: 10 296 fluid particles; dx = 0.00447 m: 100 352.
+    let dam_break = include_str!("../../data/scenes/dam-break-2d.ron");
     for dx in [0.014, 0.00447] {
-        let (mut solver, mut fluid, mut time) = dam_break(dx);
-        group.throughput(Throughput::Elements(fluid.len() as u64));
-        for threads in [1, 2] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let id = BenchmarkId::new(format!("2d/{threads}-threads"), fluid.len());
-            group.bench_function(id, |b| {
-                pool.install(|| {
-                    b.iter(|| {
-                        let report = solver.step(&mut fluid, time, 1.0).unwrap();
-                        time += report.dt;
-                        black_box(report)
-                    })
-                })
-            });
-        }
+        bench_threads::<2>(&mut group, advanced::<2>(dam_break, dx));
+    }
+    // dx = 0.04 m: 10 850 fluid particles (25 051 wall); dx = 0.02 m: 86 800 (94 616 wall).
+    let kleefsman = include_str!("../../data/scenes/kleefsman-obstacle.ron");
+    for dx in [0.04, 0.02] {
+        bench_threads::<3>(&mut group, advanced::<3>(kleefsman, dx));
     }
     group.finish();
 }

@@ -16,6 +16,7 @@ mod kernels;
 mod neighbours;
 mod obstacle_impact;
 mod output_integrity;
+mod plane_strain_slab;
 mod soil_element;
 mod soil_sph;
 mod surface;

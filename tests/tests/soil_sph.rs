@@ -150,7 +150,7 @@ fn gravity_loading_arches_within_janssen_bounds() {
     assert_eq!(figure("janssen_outside_bounds"), 0.0, "{report}");
 }
 
-fn collapse(dx: Real, end_time: Real) -> Report {
+pub(crate) fn collapse(dx: Real, end_time: Real) -> Report {
     let mut scene = Scene::from_ron(DEFAULT_SCENE).unwrap();
     scene.dx = dx;
     scene.end_time = end_time;
@@ -219,7 +219,7 @@ fn granular_collapse_keeps_an_inner_block_and_comes_to_rest() {
 /// (a change of rounding) later gave 6.5 % and +6.5 % at 1.25 mm and moved the 5 mm toe by
 /// 2.5 % (docs/soil.md, "Round-off"); the bounds were not widened for it (measured at 5 mm:
 /// P_d 5.1 %, toe +3.5 %). The height at the wall is the measured 0.1 m within dx/2.
-fn against_the_experiment(report: &Report) {
+pub(crate) fn against_the_experiment(report: &Report) {
     let experiment = report
         .experiment
         .as_ref()

@@ -56,10 +56,11 @@ fn close(a: Real, b: Real) -> bool {
     (a - b).abs() <= 1e-9 * b.abs().max(1.0)
 }
 
-/// Whether `scene` is the experiment's set-up: a 2D column [`COLUMN_LENGTH`] ×
-/// [`COLUMN_HEIGHT`] of the aluminium bars ([`is_aluminium_bars`]).
+/// Whether `scene` is the experiment's set-up: a column [`COLUMN_LENGTH`] ×
+/// [`COLUMN_HEIGHT`] of the aluminium bars ([`is_aluminium_bars`]) in plane strain (2D, or a
+/// 3D slab periodic across y; [`Column::plane_strain`]).
 pub fn is_experiment(scene: &Scene, column: &Column) -> bool {
-    column.dimension == 2
+    column.plane_strain
         && close(column.length, COLUMN_LENGTH)
         && close(column.height, COLUMN_HEIGHT)
         && is_aluminium_bars(scene)

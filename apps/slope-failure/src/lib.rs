@@ -84,6 +84,10 @@ pub struct Column {
     pub spacing: Real,
     /// Number of dimensions.
     pub dimension: usize,
+    /// In plane strain: a 2D scene, or a 3D slab whose domain is periodic across y (no side
+    /// walls, no motion across y but what the flow itself makes), which the plane-strain
+    /// experiments are compared with.
+    pub plane_strain: bool,
 }
 
 impl Column {
@@ -114,6 +118,11 @@ impl Column {
             },
             spacing: scene.dx,
             dimension: scene.dimension,
+            plane_strain: scene.dimension == 2
+                || scene
+                    .domain
+                    .as_ref()
+                    .is_some_and(|domain| domain.periodic.get(1) == Some(&true)),
         })
     }
 
@@ -253,6 +262,9 @@ pub struct RunoutTracker {
     /// Displacement |u| of every particle since the release (t = 0) at the latest sample, in
     /// the order of `latest` (zero for a scene without soil fields).
     pub displacement: Vec<Real>,
+    /// The largest displacement across the runout direction, max |u_y|, at the latest sample
+    /// (3D; zero in 2D): how far a slab in plane strain has left it.
+    pub out_of_plane: Real,
 }
 
 impl RunoutTracker {
@@ -267,6 +279,7 @@ impl RunoutTracker {
             initial: Vec::new(),
             latest: Vec::new(),
             displacement: Vec::new(),
+            out_of_plane: 0.0,
         }
     }
 }
@@ -350,6 +363,14 @@ impl<const D: usize> Observer<D> for RunoutTracker {
                 .extend(fields.displacement.iter().map(|u| u.norm())),
             None => self.displacement.resize(x.len(), 0.0),
         }
+        self.out_of_plane = match &soil.soil {
+            Some(fields) if D == 3 => fields
+                .displacement
+                .iter()
+                .map(|u| u[1].abs())
+                .fold(0.0, Real::max),
+            _ => 0.0,
+        };
         if self.initial.is_empty() {
             self.initial.clone_from(&self.latest);
         }
@@ -362,6 +383,7 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         push_records(&mut state, self.initial.iter().map(|&(x, y)| [x, y]));
         push_records(&mut state, self.latest.iter().map(|&(x, y)| [x, y]));
         push_records(&mut state, self.displacement.iter().map(|&u| [u]));
+        push_records(&mut state, [[self.out_of_plane]].into_iter());
         state
     }
 
@@ -379,6 +401,8 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         self.initial = points(&mut state)?;
         self.latest = points(&mut state)?;
         self.displacement = take_records(&mut state)?.into_iter().map(|[u]| u).collect();
+        let out_of_plane: Vec<[Real; 1]> = take_records(&mut state)?;
+        self.out_of_plane = out_of_plane.first().map_or(0.0, |[u]| *u);
         if state.is_empty() {
             Ok(())
         } else {
@@ -419,9 +443,11 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
         .iter()
         .map(|s| s.kinetic_energy)
         .fold(0.0, Real::max);
+    let out_of_plane = (column.dimension == 3).then_some(tracker.out_of_plane);
     Ok(Report {
         summary,
         column,
+        out_of_plane,
         samples,
         last,
         peak_kinetic_energy,
@@ -453,6 +479,7 @@ mod tests {
             breadth: 1.0,
             spacing: dx,
             dimension: 2,
+            plane_strain: true,
         };
         let centre = |i: usize| (i as Real + 0.5) * dx;
         // A 0.2 m × 0.1 m block (50 × 25 particles) and a layer one particle (0.04 H) thick to

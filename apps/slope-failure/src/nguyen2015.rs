@@ -50,10 +50,10 @@ pub fn runout_ratio_from_spread(a: Real) -> Option<Real> {
     })
 }
 
-/// Whether the laws of Nguyen et al. (2015) describe `column` of `scene`: a 2D column of the
-/// bars ([`bui2008::is_aluminium_bars`]).
+/// Whether the laws of Nguyen et al. (2015) describe `column` of `scene`: a column of the
+/// bars ([`bui2008::is_aluminium_bars`]) in plane strain ([`Column::plane_strain`]).
 pub fn applies(scene: &Scene, column: &Column) -> bool {
-    column.dimension == 2 && bui2008::is_aluminium_bars(scene)
+    column.plane_strain && bui2008::is_aluminium_bars(scene)
 }
 
 /// A simulated deposit against the fits, in the experiments' normalisation.

@@ -14,6 +14,9 @@ pub struct Report {
     pub summary: Summary,
     /// The initial column.
     pub column: Column,
+    /// 3D: the largest displacement across the runout direction at the end, max |u_y| in m
+    /// (zero for a slab in exact plane strain).
+    pub out_of_plane: Option<Real>,
     /// Front, wall height and kinetic energy at every sample time.
     pub samples: Vec<Sample>,
     /// The final sample.
@@ -73,6 +76,13 @@ impl std::fmt::Display for Report {
             "\nstress noise       peak {peak:.3} at t = {at:.3} s, final {:.3} (|sigma - MLS fit|/|sigma|)",
             self.last.stress_noise
         )?;
+        if let Some(u) = self.out_of_plane {
+            write!(
+                f,
+                "\nout of plane       max |u_y| = {u:.2e} m ({:.1e} dx; 0 in plane strain)",
+                u / self.column.spacing
+            )?;
+        }
         if let Some(experiment) = &self.experiment {
             write!(f, "\n{experiment}")?;
         }

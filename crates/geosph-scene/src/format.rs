@@ -337,7 +337,9 @@ pub enum WallSpec {
     /// triangles face the flow: a terrain with normals up, an obstacle with outward normals,
     /// a container with inward ones. The lattice sites (aligned with the origin) behind the
     /// surface by less than `layers` dx, convex and concave corners included. Placement as
-    /// in [`Region::Mesh`]; in 2D the walls of the section plane y = `section`.
+    /// in [`Region::Mesh`]; in 2D the walls of the section plane y = `section`. Along a
+    /// periodic axis of the domain the sites are folded into one period (a plane drawn wider
+    /// than a periodic slab is a wall across all of it).
     Mesh {
         /// The mesh file, relative to the scene file's folder (or the working folder for a
         /// scene given as text).

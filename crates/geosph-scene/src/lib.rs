@@ -48,6 +48,7 @@ mod error;
 pub mod format;
 mod initial;
 mod parse;
+mod periodic;
 mod proximity;
 mod regions;
 pub mod setup;

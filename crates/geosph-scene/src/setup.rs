@@ -10,6 +10,7 @@ use crate::bodies::{fixed_shape_of_tank, mesh_shape};
 use crate::error::SceneError;
 use crate::format::{LoadSpec, Scene, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity, vector};
+use crate::periodic::{fold_sites, periodic_span, periods};
 use crate::proximity::overlap;
 use crate::regions::{BlockReport, Filled, check_size, fill_blocks, read_mesh};
 use crate::validate::MAX_PARTICLES;
@@ -120,6 +121,8 @@ fn mesh_walls<const D: usize>(
         let sites = surface.wall_sites(&Vector::<3>::zeros(), dx, thickness);
         sites.iter().map(WallSite::recast).collect()
     };
+    // Across a periodic axis, one period of the surface (e.g. a gate across a slab).
+    let sites = fold_sites(sites, &periods::<D>(scene, field)?, dx);
     // A site an earlier wall holds (where a barrier mesh meets a terrain mesh) is not
     // filled twice.
     let key =
@@ -301,16 +304,30 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     rest_density,
                 );
                 let margin = 1e-9 * dx;
-                if let Some(i) = fluid.position.iter().position(|x| {
-                    (0..D).any(|k| {
-                        x[k] < min[k] - margin || (x[k] > max[k] + margin && (k != up || !open_top))
-                    })
-                }) {
+                let beyond = |x: &Vector<D>| {
+                    (0..D).find(|&k| x[k] > max[k] + margin && (k != up || !open_top))
+                };
+                if let Some(i) = fluid
+                    .position
+                    .iter()
+                    .position(|x| beyond(x).is_some() || (0..D).any(|k| x[k] < min[k] - margin))
+                {
+                    let x = &fluid.position[i];
+                    let hint = match beyond(x) {
+                        Some(k) => format!(
+                            " ({:.3e} m past its inner face on axis {k}; a Box block is filled \
+                             with whole rows of dx from its lower corner, so when dx = {dx} m \
+                             does not divide the block's extent its last row passes the \
+                             block's upper face: choose a dx that divides it)",
+                            x[k] - max[k]
+                        ),
+                        None => String::new(),
+                    };
                     return Err(SceneError::Field {
                         field: format!("walls[{index}]"),
                         message: format!(
-                            "fluid particle {i} at {:?} lies in or beyond the tank's walls",
-                            fluid.position[i].as_slice()
+                            "fluid particle {i} at {:?} lies in or beyond the tank's walls{hint}",
+                            x.as_slice()
                         ),
                     });
                 }
@@ -488,50 +505,4 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         bodies,
         fixed,
     })
-}
-
-/// The periodic axes of the scene's domain, along which a tank has no walls: there the tank
-/// must span the domain's period exactly (shorter, it would leave a strip without floor;
-/// longer, its walls would overlap their own images), and the period must hold a whole number
-/// of lattice spacings (else the last row of particles lies closer than dx to the first
-/// row's image across the seam).
-fn periodic_span<const D: usize>(
-    scene: &Scene,
-    field: &str,
-    min: &Vector<D>,
-    max: &Vector<D>,
-) -> Result<[bool; D], SceneError> {
-    let mut periodic = [false; D];
-    let Some(domain) = &scene.domain else {
-        return Ok(periodic);
-    };
-    for (k, &p) in domain.periodic.iter().enumerate().take(D) {
-        periodic[k] = p;
-        let tolerance = 1e-9 * scene.dx;
-        if p && ((min[k] - domain.min[k]).abs() > tolerance
-            || (max[k] - domain.max[k]).abs() > tolerance)
-        {
-            return Err(SceneError::Field {
-                field: field.into(),
-                message: format!(
-                    "axis {k} is periodic, so the tank has no walls across it and must span the \
-                     domain's period [{}, {}] exactly, not [{}, {}]",
-                    domain.min[k], domain.max[k], min[k], max[k]
-                ),
-            });
-        }
-        let rows = (domain.max[k] - domain.min[k]) / scene.dx;
-        if p && (rows - rows.round()).abs() > 1e-6 * rows.max(1.0) {
-            return Err(SceneError::Field {
-                field: field.into(),
-                message: format!(
-                    "axis {k} is periodic and its period {} m holds {rows:.3} lattice spacings \
-                     of dx = {} m: choose a dx that divides the period",
-                    domain.max[k] - domain.min[k],
-                    scene.dx
-                ),
-            });
-        }
-    }
-    Ok(periodic)
 }
