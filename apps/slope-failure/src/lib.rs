@@ -84,9 +84,9 @@ pub struct Column {
     pub spacing: Real,
     /// Number of dimensions.
     pub dimension: usize,
-    /// In plane strain: a 2D scene, or a 3D slab whose domain is periodic across y (no side
-    /// walls, no motion across y but what the flow itself makes), which the plane-strain
-    /// experiments are compared with.
+    /// In plane strain: a 2D scene, or a 3D slab whose domain is periodic across y with every
+    /// soil block a box across the whole period (no side walls, no motion across y but what
+    /// the flow itself makes), which the plane-strain experiments are compared with.
     pub plane_strain: bool,
 }
 
@@ -118,11 +118,7 @@ impl Column {
             },
             spacing: scene.dx,
             dimension: scene.dimension,
-            plane_strain: scene.dimension == 2
-                || scene
-                    .domain
-                    .as_ref()
-                    .is_some_and(|domain| domain.periodic.get(1) == Some(&true)),
+            plane_strain: scene.dimension == 2 || spans_a_period_across_y(scene, &soil.blocks),
         })
     }
 
@@ -162,6 +158,23 @@ impl Column {
             .find(|group| group[0] - group[needed - 1] <= window)
             .map_or(0.0, |group| group[0] + 0.5 * self.spacing - self.wall)
     }
+}
+
+/// Whether the scene's domain is periodic across y and every soil block is a box spanning that
+/// period: a 3D slab in plane strain (a block narrower than the period would be a row of
+/// separate columns).
+fn spans_a_period_across_y(scene: &Scene, blocks: &[Region]) -> bool {
+    let Some(domain) = scene.domain.as_ref() else {
+        return false;
+    };
+    let close = |a: Real, b: Real| (a - b).abs() <= 1e-9 * scene.dx;
+    domain.periodic.get(1) == Some(&true)
+        && blocks.iter().all(|block| match block {
+            Region::Box { min, max } => {
+                close(min[1], domain.min[1]) && close(max[1], domain.max[1])
+            }
+            _ => false,
+        })
 }
 
 /// Thickness of the deposit at its toe, as a fraction of the column height H
@@ -262,8 +275,8 @@ pub struct RunoutTracker {
     /// Displacement |u| of every particle since the release (t = 0) at the latest sample, in
     /// the order of `latest` (zero for a scene without soil fields).
     pub displacement: Vec<Real>,
-    /// The largest displacement across the runout direction, max |u_y|, at the latest sample
-    /// (3D; zero in 2D): how far a slab in plane strain has left it.
+    /// The largest displacement across the runout direction, max |u_y| over every particle
+    /// and sample so far (3D; zero in 2D): how far a slab in plane strain has left it.
     pub out_of_plane: Real,
 }
 
@@ -363,14 +376,10 @@ impl<const D: usize> Observer<D> for RunoutTracker {
                 .extend(fields.displacement.iter().map(|u| u.norm())),
             None => self.displacement.resize(x.len(), 0.0),
         }
-        self.out_of_plane = match &soil.soil {
-            Some(fields) if D == 3 => fields
-                .displacement
-                .iter()
-                .map(|u| u[1].abs())
-                .fold(0.0, Real::max),
-            _ => 0.0,
-        };
+        if let (Some(fields), 3) = (&soil.soil, D) {
+            let across = fields.displacement.iter().map(|u| u[1].abs());
+            self.out_of_plane = across.fold(self.out_of_plane, Real::max);
+        }
         if self.initial.is_empty() {
             self.initial.clone_from(&self.latest);
         }
@@ -401,8 +410,13 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         self.initial = points(&mut state)?;
         self.latest = points(&mut state)?;
         self.displacement = take_records(&mut state)?.into_iter().map(|[u]| u).collect();
-        let out_of_plane: Vec<[Real; 1]> = take_records(&mut state)?;
-        self.out_of_plane = out_of_plane.first().map_or(0.0, |[u]| *u);
+        // Checkpoints written before the series had it end here.
+        self.out_of_plane = if state.is_empty() {
+            0.0
+        } else {
+            let out_of_plane: Vec<[Real; 1]> = take_records(&mut state)?;
+            out_of_plane.first().map_or(0.0, |[u]| *u)
+        };
         if state.is_empty() {
             Ok(())
         } else {
@@ -443,7 +457,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<Report, Error> {
         .iter()
         .map(|s| s.kinetic_energy)
         .fold(0.0, Real::max);
-    let out_of_plane = (column.dimension == 3).then_some(tracker.out_of_plane);
+    let out_of_plane =
+        (column.dimension == 3 && column.plane_strain).then_some(tracker.out_of_plane);
     Ok(Report {
         summary,
         column,

@@ -14,8 +14,8 @@ pub struct Report {
     pub summary: Summary,
     /// The initial column.
     pub column: Column,
-    /// 3D: the largest displacement across the runout direction at the end, max |u_y| in m
-    /// (zero for a slab in exact plane strain).
+    /// A 3D slab in plane strain ([`Column::plane_strain`]): the largest displacement across
+    /// the runout direction during the run, max |u_y| in m (zero in exact plane strain).
     pub out_of_plane: Option<Real>,
     /// Front, wall height and kinetic energy at every sample time.
     pub samples: Vec<Sample>,

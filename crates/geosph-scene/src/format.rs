@@ -447,6 +447,7 @@ mod tests {
             include_str!("../../../data/scenes/dam-break-2d.ron"),
             include_str!("../../../data/scenes/dam-break-3d.ron"),
             include_str!("../../../data/scenes/axisymmetric-collapse.ron"),
+            include_str!("../../../data/scenes/granular-collapse-3d.ron"),
         ] {
             let scene = Scene::from_ron(text).unwrap();
             scene.validate().unwrap();

@@ -10,7 +10,7 @@ use crate::bodies::{fixed_shape_of_tank, mesh_shape};
 use crate::error::SceneError;
 use crate::format::{LoadSpec, Scene, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity, vector};
-use crate::periodic::{fold_sites, periodic_span, periods};
+use crate::periodic::{beyond_period, fold_sites, lattice_cell, periodic_span, periods};
 use crate::proximity::overlap;
 use crate::regions::{BlockReport, Filled, check_size, fill_blocks, read_mesh};
 use crate::validate::MAX_PARTICLES;
@@ -125,8 +125,7 @@ fn mesh_walls<const D: usize>(
     let sites = fold_sites(sites, &periods::<D>(scene, field)?, dx);
     // A site an earlier wall holds (where a barrier mesh meets a terrain mesh) is not
     // filled twice.
-    let key =
-        |x: &Vector<D>| -> [i64; D] { std::array::from_fn(|k| (x[k] / dx - 0.5).round() as i64) };
+    let key = |x: &Vector<D>| lattice_cell(x, dx);
     let taken: std::collections::HashSet<[i64; D]> = earlier
         .iter()
         .filter(|x| (0..D).all(|k| ((x[k] / dx - 0.5) - (x[k] / dx - 0.5).round()).abs() < 1e-6))
@@ -150,6 +149,42 @@ fn mesh_walls<const D: usize>(
     }
     let particles = WallParticles::fixed(position, normal, depth, dx.powi(D as i32), rest_density);
     Ok((particles, surface))
+}
+
+/// Refuses a mesh wall that reaches beyond a period of the domain when bodies collide with
+/// it or a load gauge (`gauged`) integrates over it: both use the mesh as drawn, which
+/// [`fold_sites`] folds only for the wall's particles.
+fn unfolded<const D: usize>(
+    scene: &Scene,
+    index: usize,
+    surface: &WallSurface,
+    gauged: bool,
+) -> Result<(), SceneError> {
+    let field = format!("walls[{index}]");
+    let (lo, hi) = surface.mesh().bounds();
+    let plane = |x: Vector<3>| {
+        if D == 2 {
+            vec![x[0], x[2]]
+        } else {
+            x.as_slice().to_vec()
+        }
+    };
+    let (lo, hi) = (plane(lo), plane(hi));
+    match beyond_period::<D>((&lo, &hi), &periods::<D>(scene, &field)?) {
+        Some(k) => Err(SceneError::Field {
+            field,
+            message: format!(
+                "the mesh reaches beyond the domain's period on axis {k}, which its wall \
+                 particles are folded into but {} use as drawn: draw it within one period",
+                if gauged {
+                    "a load gauge would"
+                } else {
+                    "the bodies would"
+                }
+            ),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The quadrature of a load gauge on `surface`, points dx/2 apart.
@@ -313,7 +348,18 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     .position(|x| beyond(x).is_some() || (0..D).any(|k| x[k] < min[k] - margin))
                 {
                     let x = &fluid.position[i];
+                    // The fluid's farthest reach past the face: less than dx is the last
+                    // row of a block whose extent dx does not divide.
+                    let reach = |k: usize| {
+                        let past = fluid.position.iter().map(|x| x[k] - max[k]);
+                        past.fold(Real::NEG_INFINITY, Real::max)
+                    };
                     let hint = match beyond(x) {
+                        Some(k) if reach(k) >= dx => format!(
+                            " (the fluid reaches {:.3e} m past its inner face on axis {k}: a \
+                             block extends beyond the tank)",
+                            reach(k)
+                        ),
                         Some(k) => format!(
                             " ({:.3e} m past its inner face on axis {k}; a Box block is filled \
                              with whole rows of dx from its lower corner, so when dx = {dx} m \
@@ -392,6 +438,10 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     &walls.position,
                 )?;
                 walls.extend(particles);
+                let gauged = scene.output.loads.iter().any(|spec| spec.wall == index);
+                if with_bodies || gauged {
+                    unfolded::<D>(scene, index, &surface, gauged)?;
+                }
                 if with_bodies {
                     fixed.push(mesh_shape::<D>(&surface, *section, dx));
                 }
