@@ -119,6 +119,7 @@ const CASES: &[(&str, &str, &str)] = &[
     ("polygon smaller than dx", "Box(min: [0.0, 0.0], max: [0.5, 1.0]) => Polygon(vertices: [(0.01, 0.01), (0.02, 0.01), (0.01, 0.02)])", "fluid.blocks[0]`: the polygon holds no lattice site at dx = 0.1"),
     ("fluid outside the domain", "walls: [ => domain: (min: [-1.0, -1.0], max: [0.3, 3.0]), walls: [", "`domain`: fluid particle"),
     ("fluid through the tank wall", "max: [0.5, 1.0] => max: [2.5, 1.0]", "lies in or beyond the tank's walls (the fluid reaches 4.500e-1 m past its inner face on axis 0: a block extends beyond the tank)"),
+    ("block past the tank by less than dx", "max: [0.5, 1.0] => max: [2.1, 1.0]", "past its inner face on axis 0: a block extends beyond the tank)"),
     ("dx not dividing a block that fills the tank", "max: [0.5, 1.0])], hydrostatic: true),\n    walls: [Tank(min: [0.0, 0.0], max: [2.0, 2.0] => max: [0.52, 1.0])], hydrostatic: true),\n    walls: [Tank(min: [0.0, 0.0], max: [0.52, 2.0]", "3.000e-2 m past its inner face on axis 0; a Box block is filled with whole rows of dx from its lower corner, so when dx = 0.1 m does not divide the block's extent"),
     ("fluid overlapping a wall", "open_top: true)] => open_top: true), Polyline(points: [(0.0, 0.55), (0.5, 0.55)])]", "`walls[1]`: fluid particle"),
     ("tank wall too thin", "layers: 3 => layers: 1", "`walls[0].layers`: must lie in [3, 10]"),

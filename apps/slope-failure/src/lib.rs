@@ -410,7 +410,8 @@ impl<const D: usize> Observer<D> for RunoutTracker {
         self.initial = points(&mut state)?;
         self.latest = points(&mut state)?;
         self.displacement = take_records(&mut state)?.into_iter().map(|[u]| u).collect();
-        // Checkpoints written before the series had it end here.
+        // Checkpoints written before the series had it end here: the maximum restarts from
+        // zero at the restart.
         self.out_of_plane = if state.is_empty() {
             0.0
         } else {

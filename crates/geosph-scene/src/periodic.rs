@@ -31,7 +31,7 @@ pub(crate) fn periods<const D: usize>(
     {
         let period = domain.max[k] - domain.min[k];
         let rows = period / scene.dx;
-        if (rows - rows.round()).abs() > 1e-6 * rows.max(1.0) {
+        if rows.round() < 1.0 || (rows - rows.round()).abs() > 1e-6 * rows.max(1.0) {
             return Err(SceneError::Field {
                 field: field.into(),
                 message: format!(
@@ -134,13 +134,16 @@ pub(crate) fn fold_sites<const D: usize>(
 }
 
 /// The first periodic axis along which the box `[lo, hi]` reaches beyond the domain's
-/// period, if any.
+/// period by more than `tolerance`, if any.
 pub(crate) fn beyond_period<const D: usize>(
     (lo, hi): (&[Real], &[Real]),
     periods: &[Option<(Real, Real)>; D],
+    tolerance: Real,
 ) -> Option<usize> {
     (0..D).find(|&k| {
-        periods[k].is_some_and(|(lower, period)| lo[k] < lower || hi[k] > lower + period)
+        periods[k].is_some_and(|(lower, period)| {
+            lo[k] < lower - tolerance || hi[k] > lower + period + tolerance
+        })
     })
 }
 

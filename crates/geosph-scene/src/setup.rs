@@ -8,7 +8,7 @@ use geosph_sph::SphSetup;
 
 use crate::bodies::{fixed_shape_of_tank, mesh_shape};
 use crate::error::SceneError;
-use crate::format::{LoadSpec, Scene, WallSpec};
+use crate::format::{LoadSpec, Region, Scene, WallSpec};
 use crate::initial::{initial_speed, jitter, set_velocity, vector};
 use crate::periodic::{beyond_period, fold_sites, lattice_cell, periodic_span, periods};
 use crate::proximity::overlap;
@@ -151,14 +151,13 @@ fn mesh_walls<const D: usize>(
     Ok((particles, surface))
 }
 
-/// Refuses a mesh wall that reaches beyond a period of the domain when bodies collide with
-/// it or a load gauge (`gauged`) integrates over it: both use the mesh as drawn, which
-/// [`fold_sites`] folds only for the wall's particles.
+/// Refuses a mesh wall that reaches beyond a period of the domain when a load gauge
+/// integrates over it: the gauge uses the mesh as drawn, which [`fold_sites`] folds only for
+/// the wall's particles.
 fn unfolded<const D: usize>(
     scene: &Scene,
     index: usize,
     surface: &WallSurface,
-    gauged: bool,
 ) -> Result<(), SceneError> {
     let field = format!("walls[{index}]");
     let (lo, hi) = surface.mesh().bounds();
@@ -170,17 +169,14 @@ fn unfolded<const D: usize>(
         }
     };
     let (lo, hi) = (plane(lo), plane(hi));
-    match beyond_period::<D>((&lo, &hi), &periods::<D>(scene, &field)?) {
+    let periods = periods::<D>(scene, &field)?;
+    match beyond_period::<D>((&lo, &hi), &periods, 1e-9 * scene.dx) {
         Some(k) => Err(SceneError::Field {
             field,
             message: format!(
-                "the mesh reaches beyond the domain's period on axis {k}, which its wall \
-                 particles are folded into but {} use as drawn: draw it within one period",
-                if gauged {
-                    "a load gauge would"
-                } else {
-                    "the bodies would"
-                }
+                "the mesh reaches beyond the domain's period on axis {k}: its wall particles \
+                 are folded into the period but a load gauge would integrate over the mesh \
+                 as drawn; draw it within one period"
             ),
         }),
         None => Ok(()),
@@ -348,14 +344,25 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     .position(|x| beyond(x).is_some() || (0..D).any(|k| x[k] < min[k] - margin))
                 {
                     let x = &fluid.position[i];
-                    // The fluid's farthest reach past the face: less than dx is the last
-                    // row of a block whose extent dx does not divide.
+                    // The fluid's farthest reach past the face.
                     let reach = |k: usize| {
                         let past = fluid.position.iter().map(|x| x[k] - max[k]);
                         past.fold(Real::NEG_INFINITY, Real::max)
                     };
+                    // A Box block fills whole rows of dx from its lower corner: its last row
+                    // passes its upper face by less than dx/2.
+                    let pokes_out = |k: usize| {
+                        reach(k) >= 0.5 * dx
+                            || fluid_spec.blocks.iter().any(|block| {
+                                if let Region::Box { max: top, .. } = block {
+                                    top[k] > max[k] + margin
+                                } else {
+                                    false
+                                }
+                            })
+                    };
                     let hint = match beyond(x) {
-                        Some(k) if reach(k) >= dx => format!(
+                        Some(k) if pokes_out(k) => format!(
                             " (the fluid reaches {:.3e} m past its inner face on axis {k}: a \
                              block extends beyond the tank)",
                             reach(k)
@@ -438,9 +445,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     &walls.position,
                 )?;
                 walls.extend(particles);
-                let gauged = scene.output.loads.iter().any(|spec| spec.wall == index);
-                if with_bodies || gauged {
-                    unfolded::<D>(scene, index, &surface, gauged)?;
+                if scene.output.loads.iter().any(|spec| spec.wall == index) {
+                    // (Bodies are refused with periodic axes: `Scene::validate`.)
+                    unfolded::<D>(scene, index, &surface)?;
                 }
                 if with_bodies {
                     fixed.push(mesh_shape::<D>(&surface, *section, dx));
