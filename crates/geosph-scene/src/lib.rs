@@ -47,6 +47,7 @@ mod checks;
 mod error;
 pub mod format;
 mod initial;
+mod mesh_walls;
 mod parse;
 mod periodic;
 mod proximity;
