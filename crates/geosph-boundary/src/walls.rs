@@ -100,6 +100,20 @@ impl<const D: usize> WallParticles<D> {
         self.position.is_empty()
     }
 
+    /// Keeps the particles `k` with `keep[k]`, in their order.
+    pub fn retain(&mut self, keep: &[bool]) {
+        use geosph_core::retain;
+        retain(&mut self.position, keep);
+        retain(&mut self.velocity, keep);
+        retain(&mut self.acceleration, keep);
+        retain(&mut self.volume, keep);
+        retain(&mut self.normal, keep);
+        retain(&mut self.depth, keep);
+        retain(&mut self.pressure, keep);
+        retain(&mut self.density, keep);
+        retain(&mut self.viscous_velocity, keep);
+    }
+
     /// Appends the particles of `other`.
     pub fn extend(&mut self, other: WallParticles<D>) {
         self.position.extend(other.position);

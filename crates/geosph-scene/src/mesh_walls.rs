@@ -10,7 +10,17 @@ use crate::format::{LoadSpec, Scene};
 use crate::initial::vector;
 use crate::periodic::{beyond_period, fold_sites, lattice_cell, periods};
 use crate::regions::{check_size, read_mesh};
-use crate::setup::LoadSurface;
+
+/// The surface a load gauge integrates the fluid's pressure, or the soil's stress, over.
+#[derive(Clone, Debug)]
+pub struct LoadSurface<const D: usize> {
+    /// The gauge's name.
+    pub name: String,
+    /// Quadrature points on the wall's surface, dx/2 apart, normals into the flow.
+    pub points: Vec<SurfacePoint<D>>,
+    /// The point moments are taken about.
+    pub about: Vector<D>,
+}
 
 /// The dummy particles behind a mesh wall ([`WallSpec::Mesh`](crate::format::WallSpec::Mesh)): `placement` is its file,
 /// scale, offset and section.

@@ -216,17 +216,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         if removed == 0 {
             return Ok(0);
         }
-        use geosph_core::retain;
-        let w = &mut self.walls;
-        retain(&mut w.position, &keep);
-        retain(&mut w.velocity, &keep);
-        retain(&mut w.acceleration, &keep);
-        retain(&mut w.volume, &keep);
-        retain(&mut w.normal, &keep);
-        retain(&mut w.depth, &keep);
-        retain(&mut w.pressure, &keep);
-        retain(&mut w.density, &keep);
-        retain(&mut w.viscous_velocity, &keep);
+        self.walls.retain(&keep);
         self.lists.set_walls(&self.walls.position)?;
         Ok(removed)
     }
