@@ -239,7 +239,6 @@ fn check_tank_in_mesh(dimension: usize, dx: f64, depth: f64, end_time: f64, mesh
         offset: Vec::new(),
         section: 0.0,
         layers: 3,
-        reach: Vec::new(),
     }];
     scene.folder = Some(folder);
     let (average, particles) = run_hydrostatic_scene(scene, dx, depth);

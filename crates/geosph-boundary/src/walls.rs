@@ -101,6 +101,9 @@ impl<const D: usize> WallParticles<D> {
     }
 
     /// Keeps the particles `k` with `keep[k]`, in their order.
+    ///
+    /// # Panics
+    /// If `keep` does not hold one flag per particle.
     pub fn retain(&mut self, keep: &[bool]) {
         use geosph_core::retain;
         retain(&mut self.position, keep);

@@ -316,13 +316,6 @@ pub enum WallSpec {
         /// No lid (default true).
         #[serde(default = "default_true")]
         open_top: bool,
-        /// Where the flow can reach during the run (default: everywhere): wall particles are
-        /// made only inside the union of these regions (boxes as a block's, polygons in 2D,
-        /// closed meshes), e.g. a tank's sides only as high as the water runs up. The reach
-        /// is the user's claim: a particle that passes a trimmed wall leaves the domain and
-        /// is counted as escaped. Bodies collide with the wall as drawn.
-        #[serde(default, skip_serializing_if = "Vec::is_empty")]
-        reach: Vec<Region>,
     },
     /// A 2D wall along a polyline, e.g. a slope or a ramp.
     Polyline {
@@ -363,13 +356,6 @@ pub enum WallSpec {
         /// Thickness in lattice spacings (default 3; at least support radius / dx).
         #[serde(default = "default_layers")]
         layers: usize,
-        /// Where the flow can reach during the run (default: everywhere): wall particles are
-        /// made only inside the union of these regions (boxes as a block's, polygons in 2D,
-        /// closed meshes), e.g. a tank's sides only as high as the water runs up. The reach
-        /// is the user's claim: a particle that passes a trimmed wall leaves the domain and
-        /// is counted as escaped. Bodies collide with the wall as drawn.
-        #[serde(default, skip_serializing_if = "Vec::is_empty")]
-        reach: Vec<Region>,
     },
 }
 

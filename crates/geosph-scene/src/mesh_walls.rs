@@ -22,8 +22,9 @@ pub struct LoadSurface<const D: usize> {
     pub about: Vector<D>,
 }
 
-/// The dummy particles behind a mesh wall ([`WallSpec::Mesh`](crate::format::WallSpec::Mesh)): `placement` is its file,
-/// scale, offset and section.
+/// The dummy particles behind the mesh wall `field`
+/// ([`WallSpec::Mesh`](crate::format::WallSpec::Mesh)), placed by its file, scale, offset
+/// and section; sites an `earlier` wall holds are not filled again.
 pub(crate) fn mesh_walls<const D: usize>(
     scene: &Scene,
     field: &str,

@@ -113,7 +113,7 @@ impl<const D: usize> Shape<D> {
                 let mesh = read_mesh::<D>(file, *scale, offset, folder).map_err(fail)?;
                 let solid = Box::new(Solid::new(mesh).map_err(|error| {
                     fail(format!(
-                        "{error} (a volume needs a closed surface; walls may be open)"
+                        "{error} (a fluid volume needs a closed surface; walls may be open)"
                     ))
                 })?);
                 check_size::<D>(solid.mesh(), dx, 0.0).map_err(fail)?;
@@ -194,35 +194,6 @@ impl<const D: usize> Shape<D> {
             Self::Solid(solid) => solid.contains(&Vector::<3>::from_fn(|k, _| x[k])),
             Self::Section(solid, section) => solid.contains(&section.lift(&plane())),
         }
-    }
-}
-
-/// Where the flow can reach, a wall's `reach` ([`WallSpec`](crate::format::WallSpec)): the
-/// union of its regions, in which the wall's particles are kept.
-pub(crate) struct Reach<const D: usize> {
-    shapes: Vec<Shape<D>>,
-    dx: Real,
-}
-
-impl<const D: usize> Reach<D> {
-    /// The regions of `reach`, meshes read relative to `folder`; `field` names the wall.
-    pub(crate) fn new(
-        reach: &[Region],
-        folder: Option<&Path>,
-        dx: Real,
-        field: &str,
-    ) -> Result<Self, SceneError> {
-        let shapes = reach
-            .iter()
-            .enumerate()
-            .map(|(k, region)| Shape::new(region, folder, dx, &format!("{field}.reach[{k}]")))
-            .collect::<Result<_, _>>()?;
-        Ok(Self { shapes, dx })
-    }
-
-    /// Whether one of the regions holds `x` (a box as the cells its fill would cover).
-    pub(crate) fn contains(&self, x: &Vector<D>) -> bool {
-        self.shapes.iter().any(|shape| shape.contains(x, self.dx))
     }
 }
 

@@ -14,7 +14,7 @@ pub use crate::mesh_walls::LoadSurface;
 use crate::mesh_walls::{load_surface, mesh_walls, unfolded};
 use crate::periodic::periodic_span;
 use crate::proximity::overlap;
-use crate::regions::{BlockReport, Filled, Reach, fill_blocks};
+use crate::regions::{BlockReport, Filled, fill_blocks};
 use crate::validate::MAX_PARTICLES;
 use geosph_bodies::{BodyDescription, FixedShape};
 
@@ -82,49 +82,6 @@ fn to_dimension<const D: usize>(plane: WallParticles<2>) -> WallParticles<D> {
         density: plane.density,
         viscous_velocity: plane.viscous_velocity.iter().map(lift).collect(),
     }
-}
-
-/// The particles of one wall (`field`) inside its `reach` ([`Reach`]; all of them when it is
-/// empty). A reach that leaves out a wall particle within the kernel's `support` of a
-/// particle of the flow at the start, or every wall particle, is refused.
-fn within_reach<const D: usize>(
-    mut walls: WallParticles<D>,
-    reach: &[Region],
-    scene: &Scene,
-    field: &str,
-    (flow, support): (&[Vector<D>], Real),
-) -> Result<WallParticles<D>, SceneError> {
-    if reach.is_empty() {
-        return Ok(walls);
-    }
-    let fail = |message: String| SceneError::Field {
-        field: format!("{field}.reach"),
-        message,
-    };
-    let reach = Reach::<D>::new(reach, scene.folder.as_deref(), scene.dx, field)?;
-    let keep: Vec<bool> = walls.position.iter().map(|x| reach.contains(x)).collect();
-    let left_out: Vec<Vector<D>> = (walls.position.iter().zip(&keep))
-        .filter(|(_, keep)| !**keep)
-        .map(|(x, _)| *x)
-        .collect();
-    if let Some((i, j, distance)) = overlap(flow, &left_out, support) {
-        return Err(fail(format!(
-            "leaves out the wall particle at {:?}, {distance:.3e} m from particle {i} of the \
-             flow at {:?}, within the kernel's support ({support:.3e} m) at the start: the \
-             reach must hold the wall the flow touches",
-            left_out[j].as_slice(),
-            flow[i].as_slice()
-        )));
-    }
-    walls.retain(&keep);
-    if walls.is_empty() {
-        return Err(fail(
-            "holds none of the wall's particles: its regions must cover the part of the \
-             wall the flow reaches"
-                .into(),
-        ));
-    }
-    Ok(walls)
 }
 
 /// Builds the particles and solver inputs of a validated `scene` in `D` dimensions.
@@ -226,12 +183,6 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
     // What bodies collide with; made only when there are bodies.
     let mut fixed = Vec::new();
     let with_bodies = !scene.bodies.is_empty();
-    // The particles of the flow and the kernel's support: a wall's reach must hold the wall
-    // they touch at the start.
-    let touch = (
-        &fluid.position[..],
-        kernel.support_factor() * smoothing_length,
-    );
     for (index, wall) in scene.walls.iter().enumerate() {
         wall_starts.push(walls.len());
         match wall {
@@ -240,7 +191,6 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                 max,
                 layers,
                 open_top,
-                reach,
             } => {
                 let (min, max) = (vector::<D>(min), vector::<D>(max));
                 let open = periodic_span::<D>(scene, &format!("walls[{index}]"), &min, &max)?;
@@ -303,8 +253,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                         ),
                     });
                 }
-                let field = format!("walls[{index}]");
-                walls.extend(within_reach(tank, reach, scene, &field, touch)?);
+                walls.extend(tank);
                 if with_bodies {
                     let thickness = *layers as Real * dx;
                     fixed.extend(fixed_shape_of_tank(&min, &max, thickness, *open_top));
@@ -355,7 +304,6 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                 offset,
                 section,
                 layers,
-                reach,
             } => {
                 let (particles, surface) = mesh_walls::<D>(
                     scene,
@@ -365,8 +313,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
                     rest_density,
                     &walls.position,
                 )?;
-                let field = format!("walls[{index}]");
-                walls.extend(within_reach(particles, reach, scene, &field, touch)?);
+                walls.extend(particles);
                 if scene.output.loads.iter().any(|spec| spec.wall == index) {
                     // (Bodies are refused with periodic axes: `Scene::validate`.)
                     unfolded::<D>(scene, index, &surface)?;
@@ -484,30 +431,4 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         bodies,
         fixed,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A tank whose reach ends at y = 1.2: the wall particles above are left out, those below
-    /// are the full tank's, in its order.
-    #[test]
-    fn a_reach_keeps_the_walls_inside_it() {
-        let scene = |reach: &str| {
-            let text = format!(
-                r#"Scene(name: "reach", dimension: 2, dx: 0.1, end_time: 0.1, smoothing_ratio: 1.3,
-                fluid: (blocks: [Box(min: [0.0, 0.0], max: [0.5, 1.0])]),
-                walls: [Tank(min: [0.0, 0.0], max: [2.0, 2.0]{reach})], solver: Wcsph(()))"#
-            );
-            Scene::from_ron(&text).unwrap()
-        };
-        let full = build::<2>(&scene("")).unwrap().walls;
-        let reach = ", reach: [Box(min: [-1.0, -1.0], max: [3.0, 1.2])]";
-        let cut = build::<2>(&scene(reach)).unwrap().walls;
-        let below: Vec<&Vector<2>> = full.position.iter().filter(|x| x[1] < 1.2).collect();
-        assert!(below.len() < full.len());
-        assert_eq!(cut.position.iter().collect::<Vec<_>>(), below);
-        assert_eq!(cut.len(), cut.normal.len());
-    }
 }

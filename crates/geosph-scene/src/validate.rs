@@ -48,39 +48,6 @@ fn lattice_points(min: &[Real], max: &[Real], dx: Real, pad: Real) -> Real {
         .product()
 }
 
-/// A region (a fluid or soil block, a wall's reach) in a scene of `dimension`.
-fn region(field: &str, region: &Region, dimension: usize) -> Result<(), SceneError> {
-    match region {
-        Region::Box { min, max } => boxed(field, min, max, dimension),
-        Region::Polygon { vertices } => {
-            if dimension != 2 {
-                return Err(fail(field, "polygons exist only in 2D scenes"));
-            }
-            if vertices.len() < 3 {
-                return Err(fail(
-                    format!("{field}.vertices"),
-                    format!("needs at least 3 vertices, got {}", vertices.len()),
-                ));
-            }
-            finite_pairs(&format!("{field}.vertices"), vertices)
-        }
-        Region::Mesh {
-            file,
-            scale,
-            offset,
-            section,
-        } => mesh_placement(field, file, *scale, offset, *section, dimension),
-    }
-}
-
-/// A wall's `reach` regions.
-fn reaches(field: &str, reach: &[Region], dimension: usize) -> Result<(), SceneError> {
-    for (index, shape) in reach.iter().enumerate() {
-        region(&format!("{field}.reach[{index}]"), shape, dimension)?;
-    }
-    Ok(())
-}
-
 impl Scene {
     /// Probe names usable as CSV columns and unique; positions in the scene's dimension; a
     /// fluid that carries pressure.
@@ -268,14 +235,9 @@ impl Scene {
             let field = format!("walls[{index}]");
             let layers = match wall {
                 WallSpec::Tank {
-                    min,
-                    max,
-                    layers,
-                    reach,
-                    ..
+                    min, max, layers, ..
                 } => {
                     boxed(&field, min, max, dimension)?;
-                    reaches(&field, reach, dimension)?;
                     *layers
                 }
                 WallSpec::Polyline {
@@ -312,10 +274,8 @@ impl Scene {
                     offset,
                     section,
                     layers,
-                    reach,
                 } => {
                     mesh_placement(&field, file, *scale, offset, *section, dimension)?;
-                    reaches(&field, reach, dimension)?;
                     *layers
                 }
             };
@@ -415,7 +375,27 @@ impl Scene {
         }
         for (index, block) in fluid.blocks.iter().enumerate() {
             let field = format!("fluid.blocks[{index}]");
-            region(&field, block, self.dimension)?;
+            match block {
+                Region::Box { min, max } => boxed(&field, min, max, self.dimension)?,
+                Region::Polygon { vertices } => {
+                    if self.dimension != 2 {
+                        return Err(fail(field, "polygons exist only in 2D scenes"));
+                    }
+                    if vertices.len() < 3 {
+                        return Err(fail(
+                            format!("{field}.vertices"),
+                            format!("needs at least 3 vertices, got {}", vertices.len()),
+                        ));
+                    }
+                    finite_pairs(&format!("{field}.vertices"), vertices)?;
+                }
+                Region::Mesh {
+                    file,
+                    scale,
+                    offset,
+                    section,
+                } => mesh_placement(&field, file, *scale, offset, *section, self.dimension)?,
+            }
         }
         in_range("fluid.jitter", fluid.jitter, 0.0, 0.4)?;
         match &fluid.velocity {
