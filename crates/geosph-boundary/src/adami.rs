@@ -70,6 +70,8 @@ impl<const D: usize> DummyAdami2012<D> {
             viscous_velocity,
             ..
         } = walls;
+        // Most wall particles of a tank have no flow near them: they skip the inversion.
+        let density_at_zero = density_from_pressure(0.0);
         pressure
             .par_iter_mut()
             .zip(density.par_iter_mut())
@@ -106,7 +108,11 @@ impl<const D: usize> DummyAdami2012<D> {
                     *p_w = 0.0;
                     *u_w = velocity[w];
                 }
-                *rho_w = density_from_pressure(*p_w);
+                *rho_w = if *p_w == 0.0 {
+                    density_at_zero
+                } else {
+                    density_from_pressure(*p_w)
+                };
             });
     }
 }

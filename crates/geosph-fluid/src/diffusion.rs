@@ -271,17 +271,18 @@ mod tests {
         let rho_j = rho0;
         let rho_i = rho_j + rho0 * 9.81 * dx / (c0 * c0);
         let r2: Real = dx * dx;
-        let pair = Pair {
+        // ∇_i W_ij points along −x_ij for a decreasing kernel.
+        let grad = -r_ij * 100.0;
+        let pair = Pair::new(
             r_ij,
             r2,
-            inv_r2_eta2: 1.0 / (r2 + 0.01 * h * h),
-            // ∇_i W_ij points along −x_ij for a decreasing kernel.
-            grad: -r_ij * 100.0,
-            v_ij: Vector::zeros(),
+            0.01 * h * h,
+            grad,
+            Vector::zeros(),
             rho_i,
             rho_j,
-            mass_j: rho0 * dx * dx,
-        };
+            rho0 * dx * dx,
+        );
         let molteni = DeltaMolteni2009 {
             delta: 0.1,
             smoothing_length: h,

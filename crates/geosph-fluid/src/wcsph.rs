@@ -387,16 +387,16 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
                 let mut sums = ShiftSums::<D>::default();
                 lists.for_each_neighbour(&kernel, position, i, |neighbour| {
                     let (j, grad) = (neighbour.index, neighbour.grad);
-                    let pair = Pair {
-                        r_ij: neighbour.r_ij,
-                        r2: neighbour.r2,
-                        inv_r2_eta2: 1.0 / (neighbour.r2 + eta2),
+                    let pair = Pair::new(
+                        neighbour.r_ij,
+                        neighbour.r2,
+                        eta2,
                         grad,
-                        v_ij: v_i - velocity[j],
+                        v_i - velocity[j],
                         rho_i,
-                        rho_j: density[j],
-                        mass_j: mass[j],
-                    };
+                        density[j],
+                        mass[j],
+                    );
                     a_i -= grad * (mass[j] * (p_over_rho2_i + pressure_term[j]));
                     a_i += viscosity.acceleration(&pair);
                     drho_i += mass[j] * pair.v_ij.dot(&grad);
@@ -410,16 +410,16 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
                     let (w, grad) = (neighbour.index, neighbour.grad);
                     let rho_w = walls.density[w];
                     let mass_w = rho_w * walls.volume[w];
-                    let pair = Pair {
-                        r_ij: neighbour.r_ij,
-                        r2: neighbour.r2,
-                        inv_r2_eta2: 1.0 / (neighbour.r2 + eta2),
+                    let pair = Pair::new(
+                        neighbour.r_ij,
+                        neighbour.r2,
+                        eta2,
                         grad,
-                        v_ij: v_i - V::wall_velocity(walls, w),
+                        v_i - V::wall_velocity(walls, w),
                         rho_i,
-                        rho_j: rho_w,
-                        mass_j: mass_w,
-                    };
+                        rho_w,
+                        mass_w,
+                    );
                     let p_over_rho2_w = gradient_correction * walls.pressure[w] / (rho_w * rho_w);
                     a_i -= grad * (mass_w * (p_over_rho2_i + p_over_rho2_w));
                     a_i += viscosity.acceleration(&pair);

@@ -12,6 +12,8 @@ pub struct Pair<const D: usize> {
     pub r2: Real,
     /// 1 / (|x_i − x_j|² + 0.01 h²), shared by the terms that divide by the distance.
     pub inv_r2_eta2: Real,
+    /// 1 / ((|x_i − x_j|² + 0.01 h²)(ρ_i + ρ_j)), for the terms that divide by ρ̄_ij too.
+    pub inv_r2_eta2_rho_sum: Real,
     /// ∇_i W_ij.
     pub grad: Vector<D>,
     /// v_i − v_j.
@@ -22,6 +24,38 @@ pub struct Pair<const D: usize> {
     pub rho_j: Real,
     /// m_j.
     pub mass_j: Real,
+}
+
+impl<const D: usize> Pair<D> {
+    /// The pair of displacement `r_ij` (|r_ij|² = `r2`), kernel gradient `grad`, relative
+    /// velocity `v_ij`, densities `rho_i`, `rho_j` and mass `mass_j`, with the softening
+    /// η² = `eta2` (0.01 h²). Both reciprocals come from one division.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn new(
+        r_ij: Vector<D>,
+        r2: Real,
+        eta2: Real,
+        grad: Vector<D>,
+        v_ij: Vector<D>,
+        rho_i: Real,
+        rho_j: Real,
+        mass_j: Real,
+    ) -> Self {
+        let rho_sum = rho_i + rho_j;
+        let inv_r2_eta2_rho_sum = 1.0 / ((r2 + eta2) * rho_sum);
+        Self {
+            r_ij,
+            r2,
+            inv_r2_eta2: inv_r2_eta2_rho_sum * rho_sum,
+            inv_r2_eta2_rho_sum,
+            grad,
+            v_ij,
+            rho_i,
+            rho_j,
+            mass_j,
+        }
+    }
 }
 
 /// A viscous acceleration term. The pair loop is monomorphised over it, so [`Inviscid`] costs
@@ -97,12 +131,14 @@ impl ArtificialMonaghan1992 {
 impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
     #[inline(always)]
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D> {
-        let approach = pair.v_ij.dot(&pair.r_ij);
-        if approach >= 0.0 {
-            return Vector::zeros();
-        }
-        let mu = self.smoothing_length * approach * pair.inv_r2_eta2;
-        let pi = self.pi(mu, 0.5 * (pair.rho_i + pair.rho_j));
+        // A receding pair has a = 0 and so Π_ij = 0: no branch the processor could mispredict.
+        // Π_ij = μ_ij (β μ_ij − α c̄) / ρ̄_ij = 2 h a (β μ_ij − α c̄) / ((|x_ij|² + η²)(ρ_i + ρ_j)).
+        let h_approach = self.smoothing_length * pair.v_ij.dot(&pair.r_ij).min(0.0);
+        let mu = h_approach * pair.inv_r2_eta2;
+        let pi = 2.0
+            * h_approach
+            * (self.beta * mu - self.alpha * self.sound_speed)
+            * pair.inv_r2_eta2_rho_sum;
         pair.grad * (-pair.mass_j * pi)
     }
 
@@ -211,16 +247,17 @@ mod tests {
 
     fn pair(v_ij: Vector<2>) -> Pair<2> {
         let r_ij = Vector::<2>::new(0.01, 0.0);
-        Pair {
+        let r2 = r_ij.norm_squared();
+        Pair::new(
             r_ij,
-            r2: r_ij.norm_squared(),
-            inv_r2_eta2: 1.0 / (r_ij.norm_squared() + 0.01 * 0.013 * 0.013),
-            grad: r_ij * -1000.0,
+            r2,
+            0.01 * 0.013 * 0.013,
+            r_ij * -1000.0,
             v_ij,
-            rho_i: 1000.0,
-            rho_j: 1000.0,
-            mass_j: 0.1,
-        }
+            1000.0,
+            1000.0,
+            0.1,
+        )
     }
 
     #[test]

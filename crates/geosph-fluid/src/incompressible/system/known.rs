@@ -114,16 +114,16 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
             }
             let r_ij = domain.displacement(&x_i, &position[j]);
             let r2 = r_ij.norm_squared();
-            sum += viscosity.acceleration(&Pair {
+            sum += viscosity.acceleration(&Pair::new(
                 r_ij,
                 r2,
-                inv_r2_eta2: 1.0 / (r2 + eta2),
+                eta2,
                 grad,
-                v_ij: v_i - velocity[j],
+                v_i - velocity[j],
                 rho_i,
-                rho_j: density[j],
-                mass_j: mass[j],
-            });
+                density[j],
+                mass[j],
+            ));
         }
         let (start, end) = range(self.lists.contact(), i);
         for (&b, &grad) in self.lists.contact().indices[start..end]
@@ -134,16 +134,16 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
             let r_ib = domain.displacement(&x_i, &walls.position[b]);
             let r2 = r_ib.norm_squared();
             let mass_b = rho0 * walls.volume[b];
-            sum += viscosity.acceleration(&Pair {
-                r_ij: r_ib,
+            sum += viscosity.acceleration(&Pair::new(
+                r_ib,
                 r2,
-                inv_r2_eta2: 1.0 / (r2 + eta2),
+                eta2,
                 grad,
-                v_ij: v_i - V::wall_velocity(walls, b),
+                v_i - V::wall_velocity(walls, b),
                 rho_i,
-                rho_j: rho_i,
-                mass_j: mass_b,
-            });
+                rho_i,
+                mass_b,
+            ));
             if self.wall_pressure == WallPressure::Hydrostatic {
                 // h_b = (g − a_b)·(x_b − x_i) with x_b − x_i = −r_ib, limited so
                 // that p_b = p_i + ρ_i h_b stays ≥ 0 for the last step's p_i.
