@@ -12,8 +12,6 @@ pub struct Pair<const D: usize> {
     pub r2: Real,
     /// 1 / (|x_i − x_j|² + 0.01 h²), shared by the terms that divide by the distance.
     pub inv_r2_eta2: Real,
-    /// 1 / ((|x_i − x_j|² + 0.01 h²)(ρ_i + ρ_j)), for the terms that divide by ρ̄_ij too.
-    pub inv_r2_eta2_rho_sum: Real,
     /// ∇_i W_ij.
     pub grad: Vector<D>,
     /// v_i − v_j.
@@ -29,7 +27,7 @@ pub struct Pair<const D: usize> {
 impl<const D: usize> Pair<D> {
     /// The pair of displacement `r_ij` (|r_ij|² = `r2`), kernel gradient `grad`, relative
     /// velocity `v_ij`, densities `rho_i`, `rho_j` and mass `mass_j`, with the softening
-    /// η² = `eta2` (0.01 h²). Both reciprocals come from one division.
+    /// η² = `eta2` (0.01 h²).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub fn new(
@@ -42,13 +40,10 @@ impl<const D: usize> Pair<D> {
         rho_j: Real,
         mass_j: Real,
     ) -> Self {
-        let rho_sum = rho_i + rho_j;
-        let inv_r2_eta2_rho_sum = 1.0 / ((r2 + eta2) * rho_sum);
         Self {
             r_ij,
             r2,
-            inv_r2_eta2: inv_r2_eta2_rho_sum * rho_sum,
-            inv_r2_eta2_rho_sum,
+            inv_r2_eta2: 1.0 / (r2 + eta2),
             grad,
             v_ij,
             rho_i,
@@ -131,14 +126,11 @@ impl ArtificialMonaghan1992 {
 impl<const D: usize> Viscosity<D> for ArtificialMonaghan1992 {
     #[inline(always)]
     fn acceleration(&self, pair: &Pair<D>) -> Vector<D> {
-        // A receding pair has a = 0 and so Π_ij = 0: no branch the processor could mispredict.
-        // Π_ij = μ_ij (β μ_ij − α c̄) / ρ̄_ij = 2 h a (β μ_ij − α c̄) / ((|x_ij|² + η²)(ρ_i + ρ_j)).
-        let h_approach = self.smoothing_length * pair.v_ij.dot(&pair.r_ij).min(0.0);
-        let mu = h_approach * pair.inv_r2_eta2;
-        let pi = 2.0
-            * h_approach
-            * (self.beta * mu - self.alpha * self.sound_speed)
-            * pair.inv_r2_eta2_rho_sum;
+        // min(v_ij·x_ij, 0) is zero for a receding pair, so μ_ij = Π_ij = 0 there with no
+        // branch the processor could mispredict (the result is the branch's to the bit).
+        let approach = pair.v_ij.dot(&pair.r_ij).min(0.0);
+        let mu = self.smoothing_length * approach * pair.inv_r2_eta2;
+        let pi = self.pi(mu, 0.5 * (pair.rho_i + pair.rho_j));
         pair.grad * (-pair.mass_j * pi)
     }
 
@@ -273,6 +265,29 @@ mod tests {
         let approaching = pair(Vector::<2>::new(-1.0, 0.0));
         // i moves towards j (−x); the force pushes i back (+x).
         assert!(av.acceleration(&approaching)[0] > 0.0);
+    }
+
+    /// The pair term equals −m_j Π_ij ∇_i W_ij with Π_ij of eq. 4.1 formed directly, with the
+    /// quadratic term on, and is zero for a receding pair.
+    #[test]
+    fn artificial_viscosity_is_monaghans_pi_with_both_terms() {
+        let av = ArtificialMonaghan1992 {
+            alpha: 0.5,
+            beta: 1.0,
+            smoothing_length: 0.013,
+            sound_speed: 30.0,
+        };
+        let v_ij = Vector::<2>::new(-2.0, 0.5);
+        let approaching = pair(v_ij);
+        let mu = 0.013 * v_ij.dot(&approaching.r_ij) * approaching.inv_r2_eta2;
+        let pi = (-0.5 * 30.0 * mu + mu * mu) / 1000.0;
+        let expected = approaching.grad * (-approaching.mass_j * pi);
+        assert_relative_eq!(
+            av.acceleration(&approaching),
+            expected,
+            max_relative = 1e-14
+        );
+        assert_eq!(av.acceleration(&pair(-v_ij)), Vector::<2>::zeros());
     }
 
     /// Π_ij as the soil adds it to its stress term (Bui et al. 2008, eq. 33, with the P-wave
