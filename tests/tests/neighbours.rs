@@ -250,6 +250,63 @@ fn pairs_at_the_radius_across_cell_faces_survive_rounding() {
 }
 
 #[test]
+fn pairs_near_the_radius_across_cell_edges_and_corners_in_3d() {
+    // In 3D the queries leave out the cells whose nearest point is beyond the radius: a pair
+    // just inside the radius across a cell edge or corner must survive that test. Points at
+    // every grid node (an ulp either side), each with partners one radius away (and a
+    // billionth less) along the axes, the face diagonals and the body diagonals.
+    let s2 = std::f64::consts::FRAC_1_SQRT_2;
+    let s3 = 1.0 / 3.0_f64.sqrt();
+    let directions = [
+        Vector::<3>::new(1.0, 0.0, 0.0),
+        Vector::<3>::new(0.0, -1.0, 0.0),
+        Vector::<3>::new(s2, s2, 0.0),
+        Vector::<3>::new(-s2, 0.0, s2),
+        Vector::<3>::new(0.0, s2, -s2),
+        Vector::<3>::new(s3, s3, s3),
+        Vector::<3>::new(-s3, s3, -s3),
+        Vector::<3>::new(-s3, -s3, s3),
+    ];
+    for (min, length, radius) in [(0.0, 0.5, 0.1), (-0.7, 0.45, 0.09)] {
+        for periodic in [[false; 3], [true, false, true]] {
+            let domain = Domain::with_periodic(
+                Vector::<3>::repeat(min),
+                Vector::<3>::repeat(min + length),
+                periodic,
+            )
+            .unwrap();
+            let n = (length / (radius * (1.0 + 1e-6))).floor() as usize;
+            let edge = length / n as Real;
+            let mut position = Vec::new();
+            for a in 0..=n {
+                for b in 0..=n {
+                    for c in 0..=n {
+                        let node = Vector::<3>::new(a as Real, b as Real, c as Real) * edge
+                            + Vector::<3>::repeat(min);
+                        for x in [node, node.map(Real::next_down), node.map(Real::next_up)] {
+                            let partners = directions.iter().flat_map(|direction| {
+                                [1.0, 1.0 - 1e-9].map(|scale| x + direction * (radius * scale))
+                            });
+                            for y in std::iter::once(x).chain(partners) {
+                                if domain.contains(&y) {
+                                    position.push(y);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            let list = search(&domain, radius, &position, &position);
+            assert_eq!(
+                list,
+                brute_force(&domain, radius, &position, &position),
+                "{domain:?}"
+            );
+        }
+    }
+}
+
+#[test]
 fn cross_query_against_wall_particles() {
     // Fluid particles querying a grid built on three layers of wall particles below them.
     let domain = Domain::with_periodic(
