@@ -9,14 +9,16 @@
 #        # DFSPH (or IISPH, PCISPH) at 0.1 % mean compression, dx = 0.015 m, to t = 1.35 s,
 #        # geosph with SPlisHSPlasH's kernel and support (cubic spline, h = dx, 2 wall layers)
 #
-# The peers come from PyPI through the scripts in the peers' folder beside this repository
-# (PEERS_SCRIPTS, default ../shared/peers) and live in PEERS_DIR (default ~/.cache/geosph-peers).
-# Both runs use two threads (OMP_NUM_THREADS=2, rayon's default pool on two cores). Run it on
-# an otherwise idle machine: nothing else may build or run beside it.
+# `install` puts the peers' PyPI packages (pysph, pysplishsplash; unpinned, the versions are
+# printed) in virtual environments in PEERS_DIR (default ~/.cache/geosph-peers). The runs use
+# the peers' dam-break drivers (pysph_dambreak.py, splash_dambreak.py), which are not part of
+# this repository: they are in the peers' folder beside it (PEERS_SCRIPTS, default
+# ../shared/peers). Both codes run on two threads (OMP_NUM_THREADS=2, geosph --threads 2);
+# the order alternates from round to round. Run it on an otherwise idle machine: nothing else
+# may build or run beside it.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 root=$PWD
-scripts=$(cd "${PEERS_SCRIPTS:-$root/../shared/peers}" && pwd)
 peers=${PEERS_DIR:-$HOME/.cache/geosph-peers}
 mode=${1:-}
 rounds=${2:-3}
@@ -25,7 +27,22 @@ export OMP_NUM_THREADS=2
 gldispatch() {
     # SPlisHSPlasH's wheel segfaults at import with Debian 12's libGLX unless the system
     # libGLdispatch is preloaded (../shared/peers/README.md).
-    ldconfig -p | awk '/libGLdispatch.so.0 /{print $NF; exit}'
+    PATH=$PATH:/sbin:/usr/sbin ldconfig -p | awk '/libGLdispatch.so.0 /{print $NF; exit}'
+}
+
+# Prints the one RESULT line of a peer's log as "<wall s> <simulated s> <steps> <M fluid
+# particle-steps/s>" with the JSON keys wall, time, steps, rate; a run without it ends the
+# script with its log.
+peer_result() {
+    python3 -c '
+import json, sys
+log = open(sys.argv[1]).read()
+lines = [l for l in log.splitlines() if l.startswith("RESULT ")]
+r = json.loads(lines[-1][7:]) if lines else {}
+keys = sys.argv[2:]
+if not all(r.get(k) for k in keys):
+    sys.exit("the peer run gave no usable RESULT line; its log:\n" + log[-3000:])
+print(r[keys[0]], r[keys[1]], r[keys[2]], r[keys[3]] / 1e6)' "$@"
 }
 
 install() {
@@ -45,7 +62,10 @@ install() {
     local gld
     gld=$(gldispatch)
     [ -n "$gld" ] || { echo "SPlisHSPlasH needs the system libGLdispatch.so.0 (Debian: apt-get install -y libglvnd0 libgl1 libglx0)"; exit 1; }
-    LD_PRELOAD=$gld "$peers/venv-splash/bin/python" -c "import pysplishsplash" && echo "peers installed in $peers"
+    LD_PRELOAD=$gld "$peers/venv-splash/bin/python" -c "import pysplishsplash"
+    "$peers/venv-pysph/bin/pip" list 2>/dev/null | grep -iE "^(pysph|compyle|cython|numpy) "
+    "$peers/venv-splash/bin/pip" list 2>/dev/null | grep -iE "^(pysplishsplash|numpy) "
+    echo "peers installed in $peers"
 }
 
 # Each run prints "<wall s> <simulated s> <steps> <M fluid particle-steps/s>".
@@ -57,30 +77,24 @@ geosph() {
 import re, sys
 log = sys.stdin.read()
 grab = lambda p: re.search(p, log).group(1)
-print(grab(r"wall time\s+([0-9.]+) s"), grab(r"to t = ([0-9.]+) s"), grab(r"steps\s+(\d+) to t"),
-      grab(r"([0-9.]+) M particle-steps/s"))' <<<"$log"
+steps = re.search(r"steps\s+(\d+) to t = ([0-9.eE+-]+) s", log)
+print(grab(r"wall time\s+([0-9.]+) s"), steps.group(2), steps.group(1), grab(r"([0-9.]+) M particle-steps/s"))' <<<"$log"
 }
 
 pysph_run() {
-    local log
-    log=$(cd "$work" && "$peers/venv-pysph/bin/python" "$scripts/pysph_dambreak.py" --tf 0.3 --dx 0.015 --openmp -d "$work/pysph" --disable-output 2>&1 | grep RESULT)
+    (cd "$work" && "$peers/venv-pysph/bin/python" "$scripts/pysph_dambreak.py" --tf 0.3 --dx 0.015 --openmp \
+        -d "$work/pysph" --disable-output > "$work/peer.log" 2>&1) || true
     rm -rf "$work/pysph"
-    python3 -c '
-import json, sys
-r = json.loads(sys.stdin.read().split("RESULT ", 1)[1])
-print(r["run_s"], r["t_end"], r["steps"], r["fluid_particle_steps_per_s"] / 1e6)' <<<"$log"
+    peer_result "$work/peer.log" run_s t_end steps fluid_particle_steps_per_s
 }
 
 # The loop time of SPlisHSPlasH leaves out its first step, which builds the volume maps.
 splash_run() {
-    local log
-    log=$(cd "$work" && LD_PRELOAD=$(gldispatch) "$peers/venv-splash/bin/python" -u "$scripts/splash_dambreak.py" \
-        --method "$1" --max-error 0.1 --tf 1.35 --dx 0.015 --map-res 60 60 20 --out "$work/splash" 2>&1 | grep RESULT)
+    (cd "$work" && LD_PRELOAD=$(gldispatch) "$peers/venv-splash/bin/python" -u "$scripts/splash_dambreak.py" \
+        --method "$1" --max-error 0.1 --tf 1.35 --dx 0.015 --map-res 60 60 20 --out "$work/splash" \
+        > "$work/peer.log" 2>&1) || true
     rm -rf "$work/splash"
-    python3 -c '
-import json, sys
-r = json.loads(sys.stdin.read().split("RESULT ", 1)[1])
-print(r["loop_s_steps_2_to_n"], r["t_end"], r["steps"], r["fluid_particle_steps_per_s"] / 1e6)' <<<"$log"
+    peer_result "$work/peer.log" loop_s_steps_2_to_n t_end steps fluid_particle_steps_per_s
 }
 
 case "$mode" in
@@ -89,29 +103,38 @@ pysph | splash) ;;
 *) sed -n 2,14p "$0"; exit 2 ;;
 esac
 [ -d "$peers/venv-$mode" ] || { echo "run '$0 install' first"; exit 1; }
+scripts=${PEERS_SCRIPTS:-$root/../shared/peers}
+[ -f "$scripts/pysph_dambreak.py" ] || { echo "the peers' dam-break drivers are not in $scripts: set PEERS_SCRIPTS"; exit 1; }
 cargo build --release -q -p dam-break
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 if [ "$mode" = pysph ]; then
     echo "WCSPH, dx = 0.015 m, to t = 0.3 s, 2 threads"
-    geosph_args=(--dx 0.015 --end-time 0.3)
+    geosph_args=(--dx 0.015 --end-time 0.3 --threads 2)
 else
     method=${3:-DFSPH}
     echo "$method at 0.1 % mean compression, dx = 0.015 m, to t = 1.35 s, 2 threads"
     scene=$work/scene.ron
     sed -e 's/kernel: "wendland-c2"/kernel: "cubic-spline"/' -e 's/smoothing_ratio: 1.3/smoothing_ratio: 1.0/' \
         -e 's/layers: 3/layers: 2/' data/scenes/dam-break-2d.ron > "$scene"
-    geosph_args=(--scene "$scene" --solver "${method,,}" --target-error 0.001 --dx 0.015 --end-time 1.35)
+    geosph_args=(--scene "$scene" --solver "${method,,}" --target-error 0.001 --dx 0.015 --end-time 1.35 --threads 2)
 fi
 printf '%-8s %-5s %10s %12s %8s %26s\n' code round "wall s" "simulated s" steps "M fluid particle-steps/s"
 runs=()
-for ((i = 1; i <= rounds; i++)); do
+peer_round() {
+    local run
     if [ "$mode" = pysph ]; then run=$(pysph_run); else run=$(splash_run "$method"); fi
     runs+=("$mode $run")
-    printf '%-8s %-5s %10.2f %12.3f %8d %26.3f\n' "$mode" "$i" $run
+    printf '%-8s %-5s %10.2f %12.3f %8d %26.3f\n' "$mode" "$1" $run
+}
+geosph_round() {
+    local run
     run=$(geosph "${geosph_args[@]}")
     runs+=("geosph $run")
-    printf '%-8s %-5s %10.2f %12.3f %8d %26.3f\n' geosph "$i" $run
+    printf '%-8s %-5s %10.2f %12.3f %8d %26.3f\n' geosph "$1" $run
+}
+for ((i = 1; i <= rounds; i++)); do
+    if ((i % 2)); then peer_round "$i"; geosph_round "$i"; else geosph_round "$i"; peer_round "$i"; fi
 done
 printf '%s\n' "${runs[@]}" | python3 -c '
 import sys
