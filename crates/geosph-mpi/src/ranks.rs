@@ -1,0 +1,200 @@
+//! The ranks of a run and what they exchange.
+
+use geosph_core::Real;
+use geosph_partition::ExchangePlan;
+use mpi::Count;
+use mpi::Threading;
+use mpi::collective::SystemOperation;
+use mpi::datatype::{Partition as Blocks, PartitionMut as BlocksMut};
+use mpi::environment::Universe;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+
+/// Why MPI could not be started.
+#[derive(Debug, thiserror::Error)]
+pub enum MpiError {
+    /// MPI was already initialised in this process.
+    #[error("MPI is already initialised in this process")]
+    AlreadyInitialised,
+    /// The MPI library does not let rayon's threads run beside MPI calls.
+    #[error(
+        "the MPI library gives thread support {0:?}; geosph needs at least Funneled (MPI called from the main thread while rayon threads compute)"
+    )]
+    Threading(Threading),
+}
+
+/// Records received from every rank: those from rank s are
+/// `values[offsets[s]..offsets[s + 1]]`, in the order s sent them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Received {
+    /// The values of all records, by source rank.
+    pub values: Vec<Real>,
+    /// Where each source rank's values start, and at the end their total.
+    pub offsets: Vec<usize>,
+}
+
+impl Received {
+    /// The values that came from rank `source`.
+    pub fn from_rank(&self, source: usize) -> &[Real] {
+        &self.values[self.offsets[source]..self.offsets[source + 1]]
+    }
+}
+
+/// The ranks of a run (MPI's world communicator), initialised with funnelled threading and
+/// finalised when dropped. A program started without `mpiexec` is one rank (MPI's singleton
+/// start).
+pub struct Ranks {
+    world: SimpleCommunicator,
+    _universe: Universe,
+}
+
+impl Ranks {
+    /// Initialises MPI; once per process.
+    pub fn init() -> Result<Self, MpiError> {
+        let (universe, threading) = mpi::initialize_with_threading(Threading::Funneled)
+            .ok_or(MpiError::AlreadyInitialised)?;
+        if threading < Threading::Funneled {
+            return Err(MpiError::Threading(threading));
+        }
+        Ok(Self {
+            world: universe.world(),
+            _universe: universe,
+        })
+    }
+
+    /// This process's rank.
+    pub fn rank(&self) -> usize {
+        self.world.rank() as usize
+    }
+
+    /// Ranks in all.
+    pub fn size(&self) -> usize {
+        self.world.size() as usize
+    }
+
+    /// Sends to every rank s the records of the particles `plan.send[s]`, each the `width`
+    /// values that `pack(i, values)` appends for particle i, and receives what every rank sent
+    /// here: one all-to-all of the counts and one of the values (MPI_Alltoall,
+    /// MPI_Alltoallv). Collective: every rank calls it with the same `width`.
+    ///
+    /// # Panics
+    /// If `pack` appends other than `width` values, or a rank sends more than `i32::MAX`.
+    pub fn exchange(
+        &self,
+        plan: &ExchangePlan,
+        width: usize,
+        mut pack: impl FnMut(usize, &mut Vec<Real>),
+    ) -> Received {
+        let size = self.size();
+        assert_eq!(
+            plan.send.len(),
+            size,
+            "a plan for {} ranks",
+            plan.send.len()
+        );
+        let mut values = Vec::with_capacity(plan.len() * width);
+        let mut send_counts = vec![0 as Count; size];
+        for (count, indices) in send_counts.iter_mut().zip(&plan.send) {
+            let start = values.len();
+            for &i in indices {
+                pack(i as usize, &mut values);
+            }
+            assert_eq!(
+                values.len() - start,
+                indices.len() * width,
+                "pack must append {width} values per record"
+            );
+            *count = to_count(values.len() - start);
+        }
+        let mut receive_counts = vec![0 as Count; size];
+        self.world
+            .all_to_all_into(&send_counts[..], &mut receive_counts[..]);
+        let send_offsets = offsets(&send_counts);
+        let receive_offsets = offsets(&receive_counts);
+        let (send_displacements, receive_displacements) = (
+            displacements(&send_offsets),
+            displacements(&receive_offsets),
+        );
+        let mut received = vec![0.0; receive_offsets[size]];
+        {
+            let blocks = Blocks::new(&values[..], &send_counts[..], &send_displacements[..]);
+            let mut into = BlocksMut::new(
+                &mut received[..],
+                &receive_counts[..],
+                &receive_displacements[..],
+            );
+            self.world.all_to_all_varcount_into(&blocks, &mut into);
+        }
+        Received {
+            values: received,
+            offsets: receive_offsets,
+        }
+    }
+
+    /// Every rank's `values`, concatenated in rank order, on every rank (MPI_Allgatherv).
+    pub fn all_gather(&self, values: &[Real]) -> Received {
+        let size = self.size();
+        let mut counts = vec![0 as Count; size];
+        self.world
+            .all_gather_into(&to_count(values.len()), &mut counts[..]);
+        let offsets = offsets(&counts);
+        let displacements = displacements(&offsets);
+        let mut gathered = vec![0.0; offsets[size]];
+        {
+            let mut into = BlocksMut::new(&mut gathered[..], &counts[..], &displacements[..]);
+            self.world.all_gather_varcount_into(values, &mut into);
+        }
+        Received {
+            values: gathered,
+            offsets,
+        }
+    }
+
+    /// The least `value` over the ranks (MPI_Allreduce with MPI_MIN): the same on every rank.
+    pub fn min(&self, value: Real) -> Real {
+        let mut least = 0.0;
+        self.world
+            .all_reduce_into(&value, &mut least, SystemOperation::min());
+        least
+    }
+
+    /// The largest `value` over the ranks.
+    pub fn max(&self, value: Real) -> Real {
+        let mut largest = 0.0;
+        self.world
+            .all_reduce_into(&value, &mut largest, SystemOperation::max());
+        largest
+    }
+
+    /// The sum of `count` over the ranks.
+    pub fn sum(&self, count: u64) -> u64 {
+        let mut sum = 0;
+        self.world
+            .all_reduce_into(&count, &mut sum, SystemOperation::sum());
+        sum
+    }
+}
+
+fn to_count(n: usize) -> Count {
+    Count::try_from(n).expect("at most i32::MAX values per rank in one exchange")
+}
+
+/// Prefix sums of `counts`, with the total at the end.
+fn offsets(counts: &[Count]) -> Vec<usize> {
+    let mut offsets = Vec::with_capacity(counts.len() + 1);
+    let mut total = 0;
+    offsets.push(0);
+    for &count in counts {
+        total += count as usize;
+        offsets.push(total);
+    }
+    offsets
+}
+
+/// The displacements MPI takes: the offsets of each rank's block, without the total.
+fn displacements(offsets: &[usize]) -> Vec<Count> {
+    offsets[..offsets.len() - 1]
+        .iter()
+        .map(|&offset| to_count(offset))
+        .collect()
+}
