@@ -9,8 +9,8 @@
 //! threading and called from the main thread only.
 //!
 //! `geosph-mpi-check` (the crate's binary, `mpiexec -n 4 geosph-mpi-check`) checks the
-//! exchanges on any number of ranks against a brute-force search; the crate's test runs it
-//! on 1, 2 and 4 ranks.
+//! exchanges against a brute-force search on up to 45 ranks; the crate's test runs it on 1,
+//! 2 and 4 ranks.
 
 #[cfg(feature = "mpi")]
 mod ranks;

@@ -62,6 +62,17 @@ impl Ranks {
         })
     }
 
+    /// Makes a panic on this rank abort the process after printing its message, so that
+    /// `mpiexec` ends the whole job instead of leaving the other ranks waiting in a
+    /// collective that this rank will never join.
+    pub fn abort_on_panic(&self) {
+        let report = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            report(info);
+            std::process::abort();
+        }));
+    }
+
     /// This process's rank.
     pub fn rank(&self) -> usize {
         self.world.rank() as usize
@@ -78,7 +89,9 @@ impl Ranks {
     /// MPI_Alltoallv). Collective: every rank calls it with the same `width`.
     ///
     /// # Panics
-    /// If `pack` appends other than `width` values, or a rank sends more than `i32::MAX`.
+    /// If `pack` appends other than `width` values, or a rank sends or receives more than
+    /// `i32::MAX` values (MPI's counts); a panic on one rank leaves the others waiting in
+    /// the collective, so a program should abort on panic ([`Ranks::abort_on_panic`]).
     pub fn exchange(
         &self,
         plan: &ExchangePlan,
@@ -100,8 +113,8 @@ impl Ranks {
                 pack(i as usize, &mut values);
             }
             assert_eq!(
-                values.len() - start,
-                indices.len() * width,
+                values.len(),
+                start + indices.len() * width,
                 "pack must append {width} values per record"
             );
             *count = to_count(values.len() - start);

@@ -4,16 +4,37 @@
 //! an MPI installation with `mpiexec` on the PATH (`.ci/run` installs MPICH).
 #![cfg(feature = "mpi")]
 
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 const CHECK: &str = env!("CARGO_BIN_EXE_geosph-mpi-check");
 
+/// Longest a run may take (they take about a second): a rank stuck in a collective fails the
+/// test instead of hanging CI.
+const TIMEOUT: Duration = Duration::from_secs(300);
+
+/// Runs `command` to its end, or kills it after [`TIMEOUT`] and fails.
+fn run(command: &mut Command) -> Output {
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("mpiexec must be on the PATH (Debian: apt-get install mpich libmpich-dev)");
+    let started = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > TIMEOUT {
+            child.kill().unwrap();
+            panic!("{command:?} did not end within {TIMEOUT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    child.wait_with_output().unwrap()
+}
+
 fn mpiexec(ranks: usize, args: &[&str]) -> Output {
-    Command::new("mpiexec")
+    run(Command::new("mpiexec")
         .args(["-n", &ranks.to_string(), CHECK])
-        .args(args)
-        .output()
-        .expect("mpiexec must be on the PATH (Debian: apt-get install mpich libmpich-dev)")
+        .args(args))
 }
 
 fn text(output: &Output) -> String {
@@ -42,7 +63,7 @@ fn halo_and_migration_match_a_brute_force_search_on_1_2_and_4_ranks() {
 
 #[test]
 fn without_mpiexec_the_binary_is_one_rank() {
-    let output = Command::new(CHECK).output().unwrap();
+    let output = run(&mut Command::new(CHECK));
     let text = text(&output);
     assert!(output.status.success(), "{text}");
     assert!(text.contains("1 ranks, 2D, closed: ok"), "{text}");

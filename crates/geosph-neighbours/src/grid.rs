@@ -14,7 +14,7 @@ use crate::scratch::QueryScratch;
 /// exactly one radius apart two cells apart. An edge of at least `radius·(1 + CELL_MARGIN)`
 /// leaves room for rounding errors of up to `CELL_MARGIN` cell widths, i.e. coordinates up to
 /// about 10⁹ cells from the origin.
-pub(crate) const CELL_MARGIN: Real = 1e-6;
+pub const CELL_MARGIN: Real = 1e-6;
 
 /// Largest number of cells in a grid: cell indices are stored as `u32`.
 pub const MAX_CELLS: usize = u32::MAX as usize;

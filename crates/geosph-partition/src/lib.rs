@@ -5,8 +5,7 @@
 //! plus the Verlet skin), and each rank owns a contiguous run of cells along the Z-order
 //! (Morton) curve, the runs chosen so that every rank has about the same work: the
 //! space-filling-curve partition of Warren & Salmon (1993, A parallel hashed oct-tree N-body
-//! algorithm, Supercomputing '93) that PySPH's and GADGET-2's (Springel 2005) decompositions
-//! also use. Because a cell is at least one radius wide, every neighbour of a particle lies in
+//! algorithm, Supercomputing '93), who cut the Morton key range as here. Because a cell is at least one radius wide, every neighbour of a particle lies in
 //! the 3^D cells around its own, so a rank needs, besides its own particles, only the
 //! particles of the other ranks' cells that touch its cells: its *halo*
 //! ([`Partition::halo_ranks`], [`halo_plan`]). A particle that moves into another rank's cell

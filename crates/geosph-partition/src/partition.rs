@@ -1,6 +1,7 @@
 //! The cells of the domain, their Morton keys, and the cuts of the key range between ranks.
 
 use geosph_core::{Domain, Real, Vector};
+use geosph_neighbours::grid::CELL_MARGIN;
 use geosph_neighbours::morton_encode;
 
 /// Why a partition could not be made.
@@ -26,7 +27,7 @@ pub enum PartitionError {
     },
     /// An axis has more cells than a Morton key can index.
     #[error(
-        "partition: axis {axis} has {count} cells of the interaction radius, more than the {limit} a Morton key holds in this dimension"
+        "partition: axis {axis} has {count} cells of the interaction radius; a Morton key in this dimension holds fewer than {limit}"
     )]
     TooManyCells {
         /// The axis.
@@ -34,7 +35,7 @@ pub enum PartitionError {
         /// Its cells.
         count: usize,
         /// The most a key can index.
-        limit: usize,
+        limit: u64,
     },
     /// A cell's work is negative or not finite.
     #[error("partition: the work of a cell must be finite and >= 0, got {0}")]
@@ -52,20 +53,23 @@ pub struct Cells<const D: usize> {
 
 impl<const D: usize> Cells<D> {
     /// The cells of `domain` for interactions within `radius` (the support radius plus any
-    /// Verlet skin): ⌊L_k / radius⌋ cells along axis k (at least one), so each is at least
-    /// `radius` wide.
+    /// Verlet skin): ⌊L_k / (radius (1 + ε))⌋ cells along axis k (at least one), ε the
+    /// neighbour grid's [`CELL_MARGIN`], so each is wider than `radius` by enough that
+    /// rounding in a particle's cell coordinate cannot put two particles one radius apart two
+    /// cells apart.
     pub fn new(domain: Domain<D>, radius: Real) -> Result<Self, PartitionError> {
         if !(radius.is_finite() && radius > 0.0) {
             return Err(PartitionError::Radius(radius));
         }
         let extent = domain.extent();
-        let limit = 1usize << (64 / D).min(32);
+        let edge = radius * (1.0 + CELL_MARGIN);
+        let limit = 1u64 << (64 / D).min(32);
         let mut counts = [1; D];
         let mut inv_size = [0.0; D];
         for axis in 0..D {
-            let cells = (extent[axis] / radius).floor();
+            let cells = (extent[axis] / edge).floor();
             let count = if cells >= 1.0 { cells as usize } else { 1 };
-            if count >= limit {
+            if count as u64 >= limit {
                 return Err(PartitionError::TooManyCells { axis, count, limit });
             }
             counts[axis] = count;
@@ -162,8 +166,9 @@ impl<const D: usize> Cells<D> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Partition<const D: usize> {
     cells: Cells<D>,
-    /// The first key of each rank after the first (`ranks − 1` cuts, ascending; `u64::MAX`
-    /// for a rank left without work).
+    /// The first key of each rank after the first (`ranks − 1` cuts, non-decreasing; a rank
+    /// whose cut equals the next one's owns no cell, and the cuts of ranks that no work
+    /// reached are `u64::MAX`).
     cuts: Vec<u64>,
 }
 
@@ -224,6 +229,9 @@ impl<const D: usize> Partition<D> {
 
     /// The partition of particles at `position` with the work `work[i]` each (one each when
     /// `None`), for a run that starts with every particle on every rank.
+    ///
+    /// # Panics
+    /// If `work` has fewer entries than `position`.
     pub fn from_particles(
         cells: Cells<D>,
         ranks: usize,

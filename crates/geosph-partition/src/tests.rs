@@ -89,7 +89,7 @@ fn every_neighbour_of_an_owned_particle_is_owned_or_in_the_halo() {
     }
 }
 
-/// A periodic axis of only three cells split over four ranks: the halo across the periodic
+/// A periodic axis of only three cells split over three ranks: the halo across the periodic
 /// face is sent too.
 #[test]
 fn a_periodic_axis_split_across_ranks_sends_its_halo_across_the_face() {
@@ -100,12 +100,12 @@ fn a_periodic_axis_split_across_ranks_sends_its_halo_across_the_face() {
     )
     .unwrap();
     let position = random(&domain, 400, 6);
-    let cells = Cells::new(domain, 0.3).unwrap();
+    let cells = Cells::new(domain, 0.29).unwrap();
     assert_eq!(cells.counts(), [3, 1]);
     let partition = Partition::from_particles(cells, 3, &position, None).unwrap();
     let owned = owned(&partition, &position);
     assert!(owned.iter().all(|mine| !mine.is_empty()));
-    check_halos(&partition, &position, 0.3);
+    check_halos(&partition, &position, 0.29);
 }
 
 /// On a uniform lattice each rank's work is its share within one cell's work.
@@ -142,8 +142,8 @@ fn balanced_ranks_differ_from_their_share_by_at_most_one_cell() {
     }
 }
 
-/// Particles clustered in one corner of a large domain: ranks beyond the work get no cell
-/// with a particle, stay empty, and the halos still hold.
+/// Particles clustered in one cell of a large domain: one rank owns that cell, the other
+/// three own no particle, and the halos still hold.
 #[test]
 fn ranks_without_particles_stay_empty() {
     let domain = test_domain::<2>([false, false]);
@@ -234,7 +234,7 @@ fn migration_moves_each_particle_to_its_new_owner_once() {
 fn bad_input_names_what_is_wrong() {
     let domain = test_domain::<2>([false, false]);
     let error =
-        Partition::balanced(Cells::new(domain.clone(), 0.5).unwrap(), 9, Vec::new()).unwrap_err();
+        Partition::balanced(Cells::new(domain.clone(), 0.49).unwrap(), 9, Vec::new()).unwrap_err();
     assert_eq!(
         error,
         PartitionError::TooManyRanks {
@@ -256,4 +256,34 @@ fn bad_input_names_what_is_wrong() {
         Partition::balanced(Cells::new(domain, 0.5).unwrap(), 2, vec![(0, -1.0)]).unwrap_err(),
         PartitionError::Work(-1.0)
     );
+}
+
+/// Pairs exactly one radius apart across cell faces, with the positions an ulp either side of
+/// the faces: with cells exactly one radius wide, rounding put x = 0.19999999999999998 in
+/// cell 1 and x = 0.3 (0.1 m away) in cell 3; the cells are a margin wider than the radius so
+/// that every such pair is in adjacent cells, whichever ranks own them.
+#[test]
+fn pairs_one_radius_apart_across_cell_faces_are_in_the_halo() {
+    let ulp = |x: Real, up: bool| {
+        if x == 0.0 {
+            x
+        } else {
+            Real::from_bits(if up { x.to_bits() + 1 } else { x.to_bits() - 1 })
+        }
+    };
+    let mut position = Vec::new();
+    for k in 0..10 {
+        let face = 0.1 * k as Real;
+        for x in [ulp(face, false), face, ulp(face, true)] {
+            for y in [0.35, 0.45, ulp(0.45, false), 0.55] {
+                position.push(Vector::<2>::new(x, y));
+            }
+        }
+    }
+    let domain = Domain::new(Vector::<2>::zeros(), Vector::<2>::new(1.0, 1.0)).unwrap();
+    for ranks in [2, 3, 5, 8] {
+        let cells = Cells::new(domain.clone(), 0.1).unwrap();
+        let partition = Partition::from_particles(cells, ranks, &position, None).unwrap();
+        check_halos(&partition, &position, 0.1);
+    }
 }
