@@ -3,8 +3,7 @@
 //! All three advance a step with the same skeleton (symplectic Euler, as in the papers):
 //!
 //! 1. known accelerations a* (gravity, viscosity, wall head) and the step Δt from the velocity
-//!    CFL, so the step does not depend on a sound speed (cut after a solve that ran out of
-//!    iterations, [`STEP_CUT`]);
+//!    CFL, so the step does not depend on a sound speed;
 //! 2. v* = v + Δt a*;
 //! 3. a pressure solve that makes the density predicted from v*, ρ_i + Δt Σ_j m_j
 //!    (v*_i − v*_j)·∇_i W_ij, equal to ρ₀ within the target average error, and corrects v;
@@ -60,8 +59,7 @@ pub struct PressureSolveSettings {
     pub max_compression: Real,
     /// Least iterations per step (default 2).
     pub min_iterations: usize,
-    /// Most iterations per step (default 100); a step that reaches it is reported, not failed,
-    /// and with clamped pressures the next step is cut to [`STEP_CUT`] of it.
+    /// Most iterations per step (default 100); a step that reaches it is reported, not failed.
     pub max_iterations: usize,
     /// Courant number λ: no particle moves more than λ dx in a step (default 0.4).
     pub cfl: Real,
@@ -109,25 +107,6 @@ impl Default for PressureSolveSettings {
         }
     }
 }
-
-/// The next Δt after a density solve that ran out of iterations, as a fraction of the step
-/// it failed on. A solve that has not converged in `max_iterations` leaves the density
-/// error of the step above its target, and the next steps compound it: in a dam break with
-/// the cubic spline at h = dx, PCISPH ran out from the fourth step at the 5 ms bound and the
-/// run blew up at the tenth (22 % compression) instead of finishing. Halving the step
-/// roughly quarters the compression the solve must remove (Δt² ∇·a^p ∝ Δt²).
-///
-/// Only with clamped pressures (free surfaces): there a solve that runs out leaves
-/// compression alone, and it accumulates. With `negative_pressure` (confined and periodic
-/// flows) the solve acts both ways, and a tight target that runs out by design (the
-/// Taylor–Green vortex's 10⁻⁶ divergence) is not a sign of trouble: cutting the step there
-/// only added steps and dissipation (IISPH's vortex at 50²: 409 → 1 326 steps, velocity error
-/// 1.46 → 2.42 %).
-pub const STEP_CUT: Real = 0.5;
-
-/// The growth per converged step of the bound that [`STEP_CUT`] left, until the CFL step is
-/// below it again (about three steps to double).
-pub const STEP_REGROWTH: Real = 1.25;
 
 /// What a pressure solve did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -264,9 +243,6 @@ pub struct Incompressible<const D: usize, K: Kernel<D>, M: PressureMethod<D>> {
     scratch: Scratch<D>,
     previous_velocity: Vec<Vector<D>>,
     max_acceleration: Real,
-    /// The bound on Δt left by a pressure solve that ran out of iterations
-    /// ([`STEP_CUT`], [`STEP_REGROWTH`]); none while the solves converge at the CFL step.
-    step_bound: Option<Real>,
     steps: usize,
     /// Walls moved at the end of each step (rigid bodies), if any.
     motion: Option<Box<dyn WallMotion<D>>>,
@@ -298,7 +274,6 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Incompressible<D, K, M>
         scratch.resize(fluid.len());
         Ok(Self {
             max_acceleration: system.gravity.norm(),
-            step_bound: None,
             system,
             method,
             settings,
@@ -357,11 +332,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
     ) -> Result<StepReport, SolverError> {
         let n = fluid.len();
         self.scratch.resize(n);
-        let stable = self.stable_step(fluid);
-        let dt = event_step(
-            stable.min(self.step_bound.unwrap_or(Real::INFINITY)),
-            max_dt,
-        );
+        let dt = event_step(self.stable_step(fluid), max_dt);
 
         // v* into the spare buffer, which then swaps with v: the old velocity stays behind
         // for the acceleration bound below.
@@ -373,14 +344,6 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         let density_solve =
             self.method
                 .correct_density(&self.system, fluid, dt, &self.settings, &mut self.scratch);
-        let ran_out = density_solve.iterations >= self.settings.max_iterations;
-        self.step_bound = if ran_out && !self.settings.negative_pressure {
-            Some(STEP_CUT * dt)
-        } else {
-            self.step_bound
-                .map(|bound| STEP_REGROWTH * bound)
-                .filter(|&bound| bound < stable)
-        };
         if self.system.shifting.is_some() {
             self.scratch
                 .shifting_velocity(&self.system, fluid, self.spacing, dt);
@@ -486,9 +449,6 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         state
             .arrays
             .push("max_acceleration", &[self.max_acceleration]);
-        if let Some(bound) = self.step_bound {
-            state.arrays.push("step_bound", &[bound]);
-        }
         self.method.save_state(&mut state.arrays);
         state.wall_motion = self.motion.as_ref().map(|motion| motion.save_state());
         state
@@ -501,16 +461,10 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
     ) -> Result<(), SolverError> {
         let steps = state.steps_of(self.name())?;
         let max_acceleration = state.arrays.take_value("max_acceleration")?;
-        let step_bound = if state.arrays.contains("step_bound") {
-            Some(state.arrays.take_value("step_bound")?)
-        } else {
-            None
-        };
         self.method.restore_state(&mut state.arrays)?;
         restore_wall_motion(&mut self.motion, &state.wall_motion, &mut self.system.walls)?;
         self.system.update(fluid)?;
         self.max_acceleration = max_acceleration;
-        self.step_bound = step_bound;
         self.steps = steps;
         Ok(())
     }
