@@ -36,10 +36,12 @@ pub mod domain;
 pub mod neighbour_list;
 pub mod particles;
 pub mod permutation;
+mod record;
 pub mod types;
 
 pub use domain::Domain;
 pub use neighbour_list::NeighbourList;
 pub use particles::{Particles, SoilFields, retain};
 pub use permutation::Permutation;
+pub use record::PerParticle;
 pub use types::{Matrix, Real, Tensor3, Vector};

@@ -206,6 +206,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
     type Error = SearchError;
 
     fn prepare(&mut self, fluid: &mut Particles<D>) -> Result<(), SearchError> {
+        self.lists.exchange_halo(fluid)?;
         self.lists
             .update(&mut fluid.position, &self.walls.position)?;
         let shepard = std::mem::take(&mut self.shepard_due);
@@ -215,6 +216,8 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
                 shepard && self.density_mode == DensityMode::Continuity,
             );
             self.update_pressure(fluid);
+            // The halo's new densities were summed over part of their neighbours.
+            self.lists.exchange_halo(fluid)?;
         }
         Ok(())
     }
@@ -264,7 +267,10 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
         );
 
         let shift = self.shifting.map(|shifting| {
-            let speed = max_speed(&fluid.velocity);
+            let owned = self.lists.owned(fluid.len());
+            let mut speed = [max_speed(&fluid.velocity[..owned])];
+            self.lists.max_over_ranks(&mut speed);
+            let speed = speed[0];
             shifting.step(&self.kernel, self.spacing, speed, self.time_step)
         });
         self.viscosity.visit(RatePass {

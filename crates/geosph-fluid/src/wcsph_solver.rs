@@ -4,10 +4,10 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_sph::{
-    Solver, SolverError, SolverState, StepReport, WallMotion, density_errors, event_step,
-    keep_out_of_walls, max_speed, restore_wall_motion,
+    Distribution, Solver, SolverError, SolverState, StepReport, Transport, WallMotion,
+    density_errors, event_step, keep_out_of_walls, max_speed, restore_wall_motion,
 };
-use geosph_time::{Integrator, Rates, StepLimits, time_step};
+use geosph_time::{Integrator, Rates, Scheme, StepLimits, time_step};
 
 use crate::wcsph::WcsphSystem;
 
@@ -60,22 +60,32 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         time: Real,
         max_dt: Real,
     ) -> Result<StepReport, SolverError> {
-        if let Some(permutation) = self.system.lists.sort_if_due(self.steps, fluid)? {
-            self.integrator.permute(&permutation);
-        }
+        let lists = &mut self.system.lists;
+        lists.reorder_if_due(self.steps, fluid, &mut self.integrator)?;
+        // In a distributed run the particles from `owned` on are the halo: copies whose
+        // rates are not computed in full. Limits and errors are over the owned ones, then
+        // over the ranks.
+        let owned = lists.owned(fluid.len());
         self.system.shepard_due =
             self.shepard_every > 0 && self.steps > 0 && self.steps % self.shepard_every == 0;
         let gravity = self.system.gravity.norm();
+        let mut largest = [
+            match self.motion {
+                Some(_) => {
+                    max_speed(&fluid.velocity[..owned]).max(max_speed(&self.system.walls.velocity))
+                }
+                None => max_speed(&fluid.velocity[..owned]),
+            },
+            max_speed(&self.integrator.rates().acceleration[..owned]),
+        ];
+        lists.max_over_ranks(&mut largest);
         let limits = StepLimits {
             cfl: self.cfl,
             smoothing_length: self.system.kernel.smoothing_length(),
             sound_speed: self.system.eos.sound_speed,
             // Moving walls (bodies) count as the flow does: a body must not outrun the step.
-            max_speed: match self.motion {
-                Some(_) => max_speed(&fluid.velocity).max(max_speed(&self.system.walls.velocity)),
-                None => max_speed(&fluid.velocity),
-            },
-            max_acceleration: self.integrator.rates().max_acceleration().max(gravity),
+            max_speed: largest[0],
+            max_acceleration: largest[1].max(gravity),
             kinematic_viscosity: self.system.viscosity.kinematic_viscosity(),
         };
         let dt = event_step(time_step(&limits), max_dt);
@@ -85,14 +95,18 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             &self.system.lists,
             &self.system.kernel,
             &self.system.walls,
-            &mut fluid.position,
-            &mut fluid.velocity,
+            &mut fluid.position[..owned],
+            &mut fluid.velocity[..owned],
         );
         if let Some(motion) = &mut self.motion {
             motion.advance(dt, fluid, &mut self.system.walls)?;
         }
         self.steps += 1;
-        let (mean, max) = density_errors(&fluid.density, self.system.eos.rest_density);
+        let (mean, max) = density_errors(&fluid.density[..owned], self.system.eos.rest_density);
+        let (mean, max, wall_contacts) =
+            self.system
+                .lists
+                .figures_over_ranks(mean, max, owned, wall_contacts);
         Ok(StepReport {
             dt,
             iterations: 1,
@@ -115,6 +129,32 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
 
     fn wall_motion(&self) -> Option<&dyn WallMotion<D>> {
         self.motion.as_deref()
+    }
+
+    fn distribute(
+        &mut self,
+        _fluid: &mut Particles<D>,
+        transport: Box<dyn Transport>,
+    ) -> Result<(), SolverError> {
+        if self.motion.is_some() {
+            return Err(SolverError::NotDistributed(
+                "rigid bodies do not run on several ranks yet".into(),
+            ));
+        }
+        // The multi-stage schemes evaluate rates between stages without the update that
+        // refreshes the halo.
+        let scheme = self.integrator.scheme();
+        if matches!(scheme, Scheme::PredictorCorrector | Scheme::RungeKutta4) {
+            return Err(SolverError::NotDistributed(format!(
+                "the {scheme:?} integrator does not run on several ranks yet: use leap-frog (the default) or symplectic Euler"
+            )));
+        }
+        self.system.lists.distribute(transport)?;
+        Ok(())
+    }
+
+    fn distribution(&self) -> Option<&Distribution<D>> {
+        self.system.lists.distribution()
     }
 
     fn sound_speed(&self) -> Real {

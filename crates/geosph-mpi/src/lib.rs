@@ -12,8 +12,9 @@
 //! exchanges against a brute-force search on up to 45 ranks; the crate's test runs it on 1,
 //! 2 and 4 ranks.
 
+pub mod launch;
 #[cfg(feature = "mpi")]
 mod ranks;
 
 #[cfg(feature = "mpi")]
-pub use ranks::{MpiError, Ranks, Received};
+pub use ranks::{MpiError, Ranks};

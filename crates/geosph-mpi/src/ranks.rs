@@ -1,12 +1,13 @@
 //! The ranks of a run and what they exchange.
 
 use geosph_core::Real;
-use geosph_partition::ExchangePlan;
+use geosph_partition::{ExchangePlan, Received, Transport};
 use mpi::Count;
 use mpi::Threading;
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition as Blocks, PartitionMut as BlocksMut};
 use mpi::environment::Universe;
+use mpi::request::{Request, Scope, scope};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
@@ -21,23 +22,6 @@ pub enum MpiError {
         "the MPI library gives thread support {0:?}; geosph needs at least Funneled (MPI called from the main thread while rayon threads compute)"
     )]
     Threading(Threading),
-}
-
-/// Records received from every rank: those from rank s are
-/// `values[offsets[s]..offsets[s + 1]]`, in the order s sent them.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Received {
-    /// The values of all records, by source rank.
-    pub values: Vec<Real>,
-    /// Where each source rank's values start, and at the end their total.
-    pub offsets: Vec<usize>,
-}
-
-impl Received {
-    /// The values that came from rank `source`.
-    pub fn from_rank(&self, source: usize) -> &[Real] {
-        &self.values[self.offsets[source]..self.offsets[source + 1]]
-    }
 }
 
 /// The ranks of a run (MPI's world communicator), initialised with funnelled threading and
@@ -120,8 +104,14 @@ impl Ranks {
             *count = to_count(values.len() - start);
         }
         let mut receive_counts = vec![0 as Count; size];
-        self.world
-            .all_to_all_into(&send_counts[..], &mut receive_counts[..]);
+        scope(|scope| {
+            let request = self.world.immediate_all_to_all_into(
+                scope,
+                &send_counts[..],
+                &mut receive_counts[..],
+            );
+            wait(request);
+        });
         let send_offsets = offsets(&send_counts);
         let receive_offsets = offsets(&receive_counts);
         let (send_displacements, receive_displacements) = (
@@ -136,7 +126,12 @@ impl Ranks {
                 &receive_counts[..],
                 &receive_displacements[..],
             );
-            self.world.all_to_all_varcount_into(&blocks, &mut into);
+            scope(|scope| {
+                let request = self
+                    .world
+                    .immediate_all_to_all_varcount_into(scope, &blocks, &mut into);
+                wait(request);
+            });
         }
         Received {
             values: received,
@@ -148,14 +143,24 @@ impl Ranks {
     pub fn all_gather(&self, values: &[Real]) -> Received {
         let size = self.size();
         let mut counts = vec![0 as Count; size];
-        self.world
-            .all_gather_into(&to_count(values.len()), &mut counts[..]);
+        let count = to_count(values.len());
+        scope(|scope| {
+            wait(
+                self.world
+                    .immediate_all_gather_into(scope, &count, &mut counts[..]),
+            );
+        });
         let offsets = offsets(&counts);
         let displacements = displacements(&offsets);
         let mut gathered = vec![0.0; offsets[size]];
         {
             let mut into = BlocksMut::new(&mut gathered[..], &counts[..], &displacements[..]);
-            self.world.all_gather_varcount_into(values, &mut into);
+            scope(|scope| {
+                let request = self
+                    .world
+                    .immediate_all_gather_varcount_into(scope, values, &mut into);
+                wait(request);
+            });
         }
         Received {
             values: gathered,
@@ -166,25 +171,124 @@ impl Ranks {
     /// The least `value` over the ranks (MPI_Allreduce with MPI_MIN): the same on every rank.
     pub fn min(&self, value: Real) -> Real {
         let mut least = 0.0;
-        self.world
-            .all_reduce_into(&value, &mut least, SystemOperation::min());
+        scope(|scope| {
+            let op = SystemOperation::min();
+            wait(
+                self.world
+                    .immediate_all_reduce_into(scope, &value, &mut least, op),
+            );
+        });
         least
     }
 
     /// The largest `value` over the ranks.
     pub fn max(&self, value: Real) -> Real {
         let mut largest = 0.0;
-        self.world
-            .all_reduce_into(&value, &mut largest, SystemOperation::max());
+        scope(|scope| {
+            let op = SystemOperation::max();
+            wait(
+                self.world
+                    .immediate_all_reduce_into(scope, &value, &mut largest, op),
+            );
+        });
         largest
+    }
+
+    /// The largest of each of `values` over the ranks, in place (one MPI_Allreduce).
+    pub fn max_each(&self, values: &mut [Real]) {
+        let local = values.to_vec();
+        scope(|scope| {
+            let op = SystemOperation::max();
+            wait(
+                self.world
+                    .immediate_all_reduce_into(scope, &local[..], values, op),
+            );
+        });
+    }
+
+    /// Every rank's `values`, all of the same length, concatenated in rank order (one
+    /// MPI_Allgather).
+    ///
+    /// # Panics
+    /// (In MPI) if the ranks give different lengths.
+    pub fn gather_each(&self, values: &[Real]) -> Vec<Real> {
+        let mut gathered = vec![0.0; values.len() * self.size()];
+        scope(|scope| {
+            wait(
+                self.world
+                    .immediate_all_gather_into(scope, values, &mut gathered[..]),
+            );
+        });
+        gathered
     }
 
     /// The sum of `count` over the ranks.
     pub fn sum(&self, count: u64) -> u64 {
         let mut sum = 0;
-        self.world
-            .all_reduce_into(&count, &mut sum, SystemOperation::sum());
+        scope(|scope| {
+            let op = SystemOperation::sum();
+            wait(
+                self.world
+                    .immediate_all_reduce_into(scope, &count, &mut sum, op),
+            );
+        });
         sum
+    }
+}
+
+impl Transport for Ranks {
+    fn rank(&self) -> usize {
+        Ranks::rank(self)
+    }
+
+    fn size(&self) -> usize {
+        Ranks::size(self)
+    }
+
+    fn exchange(
+        &self,
+        plan: &ExchangePlan,
+        width: usize,
+        pack: &mut dyn FnMut(usize, &mut Vec<Real>),
+    ) -> Received {
+        Ranks::exchange(self, plan, width, pack)
+    }
+
+    fn all_gather(&self, values: &[Real]) -> Received {
+        Ranks::all_gather(self, values)
+    }
+
+    fn max(&self, value: Real) -> Real {
+        Ranks::max(self, value)
+    }
+
+    fn max_each(&self, values: &mut [Real]) {
+        Ranks::max_each(self, values);
+    }
+
+    fn gather_each(&self, values: &[Real]) -> Vec<Real> {
+        Ranks::gather_each(self, values)
+    }
+}
+
+/// Waits for `request`: by testing it for up to 20 µs (a collective between ranks that each
+/// have a core completes in that time), then yielding the core between tests, and after a
+/// millisecond sleeping 20 µs between them. MPI's blocking wait spins instead, and with more
+/// ranks than cores (two cores here, four ranks in the tests) a spinning rank takes the core
+/// from the rank it waits for: a step of a few milliseconds took a hundred.
+fn wait<'a, D: ?Sized, S: Scope<'a>>(mut request: Request<'a, D, S>) {
+    let start = std::time::Instant::now();
+    loop {
+        match request.test() {
+            Ok(_) => return,
+            Err(pending) => request = pending,
+        }
+        let waited = start.elapsed().as_micros();
+        if waited > 1000 {
+            std::thread::sleep(std::time::Duration::from_micros(20));
+        } else if waited > 20 {
+            std::thread::yield_now();
+        }
     }
 }
 

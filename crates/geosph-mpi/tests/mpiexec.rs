@@ -4,8 +4,10 @@
 //! an MPI installation with `mpiexec` on the PATH (`.ci/run` installs MPICH).
 #![cfg(feature = "mpi")]
 
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Output};
+use std::time::Duration;
+
+use geosph_mpi::launch::{self, text};
 
 const CHECK: &str = env!("CARGO_BIN_EXE_geosph-mpi-check");
 
@@ -13,36 +15,9 @@ const CHECK: &str = env!("CARGO_BIN_EXE_geosph-mpi-check");
 /// test instead of hanging CI.
 const TIMEOUT: Duration = Duration::from_secs(300);
 
-/// Runs `command` to its end, or kills it after [`TIMEOUT`] and fails.
-fn run(command: &mut Command) -> Output {
-    let mut child = command
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("mpiexec must be on the PATH (Debian: apt-get install mpich libmpich-dev)");
-    let started = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if started.elapsed() > TIMEOUT {
-            child.kill().unwrap();
-            panic!("{command:?} did not end within {TIMEOUT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    child.wait_with_output().unwrap()
-}
-
 fn mpiexec(ranks: usize, args: &[&str]) -> Output {
-    run(Command::new("mpiexec")
-        .args(["-n", &ranks.to_string(), CHECK])
-        .args(args))
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
+    launch::mpiexec(ranks, CHECK, args, TIMEOUT)
+        .expect("mpiexec must be on the PATH (Debian: apt-get install mpich libmpich-dev)")
 }
 
 #[test]
@@ -63,7 +38,7 @@ fn halo_and_migration_match_a_brute_force_search_on_1_2_and_4_ranks() {
 
 #[test]
 fn without_mpiexec_the_binary_is_one_rank() {
-    let output = run(&mut Command::new(CHECK));
+    let output = launch::run(&mut Command::new(CHECK), TIMEOUT).unwrap();
     let text = text(&output);
     assert!(output.status.success(), "{text}");
     assert!(text.contains("1 ranks, 2D, closed: ok"), "{text}");

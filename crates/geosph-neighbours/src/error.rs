@@ -67,6 +67,20 @@ pub enum SearchError {
         /// Upper corner of the domain.
         max: Vec<Real>,
     },
+
+    /// In a distributed run, a particle moved farther since its rank's halo was exchanged
+    /// than the halo covers (half the Verlet skin) within one step: some neighbours may be
+    /// missing.
+    #[error(
+        "a particle moved {moved} m within one step since the halo was exchanged, more than \
+         half the Verlet skin ({limit} m) that the halo covers: lower `cfl` or enlarge the skin"
+    )]
+    HaloOutdated {
+        /// The largest displacement since the exchange.
+        moved: Real,
+        /// Half the skin.
+        limit: Real,
+    },
 }
 
 /// `(x, y, z)` with Rust's shortest round-trip formatting of each coordinate.

@@ -11,13 +11,16 @@
 //! ([`Partition::halo_ranks`], [`halo_plan`]). A particle that moves into another rank's cell
 //! changes owner ([`migration_plan`]).
 //!
-//! Nothing here communicates: the plans say what to send where, and the transport (MPI) moves
-//! the records. So the decomposition is tested in one process, every rank simulated.
+//! Nothing here communicates: the plans say what to send where, and a [`Transport`] (MPI, in
+//! `geosph-mpi`) moves the records. So the decomposition is tested in one process, every rank
+//! simulated.
 
 mod partition;
 mod plan;
 #[cfg(test)]
 mod tests;
+mod transport;
 
 pub use partition::{Cells, Partition, PartitionError, imbalance};
 pub use plan::{ExchangePlan, halo_plan, migration_plan};
+pub use transport::{OneRank, Received, Transport};

@@ -40,6 +40,16 @@ pub enum PartitionError {
     /// A cell's work is negative or not finite.
     #[error("partition: the work of a cell must be finite and >= 0, got {0}")]
     Work(Real),
+    /// A distributed run needs a Verlet skin: the margin its halo keeps between set-ups.
+    #[error(
+        "partition: a distributed run needs a Verlet skin between 0 and the interaction radius {radius}, got {skin} (the solver's `skin`)"
+    )]
+    Skin {
+        /// The skin.
+        skin: Real,
+        /// The interaction radius.
+        radius: Real,
+    },
 }
 
 /// The domain cut into cells at least one interaction radius wide, with the Morton key of
@@ -126,11 +136,12 @@ impl<const D: usize> Cells<D> {
         morton_encode(self.coords(x))
     }
 
-    /// Calls `f` with the key of every cell of the 3^D block around `coords` (itself
-    /// included) that exists: wrapped across periodic faces, cut at the others. A periodic
-    /// axis of fewer than three cells yields some cells twice.
-    pub fn for_each_cell_around(&self, coords: [u32; D], mut f: impl FnMut(u64)) {
-        let mut offset = [-1i64; D];
+    /// Calls `f` with the key of every cell of the (2 `depth` + 1)^D block around `coords`
+    /// (itself included) that exists: wrapped across periodic faces, cut at the others. A
+    /// periodic axis of fewer than 2 `depth` + 1 cells yields some cells more than once.
+    pub fn for_each_cell_around(&self, coords: [u32; D], depth: u32, mut f: impl FnMut(u64)) {
+        let depth = i64::from(depth);
+        let mut offset = [-depth; D];
         'odometer: loop {
             let mut cell = [0u32; D];
             let mut inside = true;
@@ -149,11 +160,11 @@ impl<const D: usize> Cells<D> {
                 f(morton_encode(cell));
             }
             for o in offset.iter_mut() {
-                if *o < 1 {
+                if *o < depth {
                     *o += 1;
                     continue 'odometer;
                 }
-                *o = -1;
+                *o = -depth;
             }
             break;
         }
@@ -266,13 +277,13 @@ impl<const D: usize> Partition<D> {
         self.owner_of_key(self.cells.key(x))
     }
 
-    /// The ranks other than `rank` that own a cell of the 3^D block around the cell of `x`,
-    /// ascending, written to `ranks` (cleared first): where a particle of `rank` at `x` is in
-    /// the halo.
-    pub fn halo_ranks(&self, x: &Vector<D>, rank: usize, ranks: &mut Vec<usize>) {
+    /// The ranks other than `rank` that own a cell of the (2 `depth` + 1)^D block around the
+    /// cell of `x`, ascending, written to `ranks` (cleared first): where a particle of `rank`
+    /// at `x` is in the halo `depth` cells deep.
+    pub fn halo_ranks(&self, x: &Vector<D>, rank: usize, depth: u32, ranks: &mut Vec<usize>) {
         ranks.clear();
         self.cells
-            .for_each_cell_around(self.cells.coords(x), |key| {
+            .for_each_cell_around(self.cells.coords(x), depth, |key| {
                 let owner = self.owner_of_key(key);
                 if owner != rank && !ranks.contains(&owner) {
                     ranks.push(owner);

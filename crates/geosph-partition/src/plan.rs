@@ -31,10 +31,13 @@ impl ExchangePlan {
     }
 }
 
-/// The halo that rank `rank` sends: every one of its particles at `position` whose cell
-/// touches a cell of another rank goes to that rank (to each such rank once). With cells at
-/// least one interaction radius wide, a rank that receives the halos of all others sees every
-/// neighbour of each particle it owns.
+/// The halo `depth` cells deep that rank `rank` sends: every one of its particles at
+/// `position` whose cell is at most `depth` cells (along each axis) from a cell of another
+/// rank goes to that rank (to each such rank once). With cells at least one interaction
+/// radius wide, a rank that receives the halos of depth 1 of all others sees every neighbour
+/// of each particle it owns; with depth 2 also every neighbour of those neighbours (what a
+/// pass needs that reads a value its neighbours summed over theirs, such as a wall pressure
+/// or a density gradient).
 ///
 /// # Panics
 /// If a rank has more than `u32::MAX` particles.
@@ -42,11 +45,12 @@ pub fn halo_plan<const D: usize>(
     partition: &Partition<D>,
     rank: usize,
     position: &[Vector<D>],
+    depth: u32,
 ) -> ExchangePlan {
     let mut plan = ExchangePlan::new(partition.ranks());
     let mut ranks = Vec::new();
     for (i, x) in position.iter().enumerate() {
-        partition.halo_ranks(x, rank, &mut ranks);
+        partition.halo_ranks(x, rank, depth, &mut ranks);
         for &destination in &ranks {
             plan.send[destination].push(index(i));
         }

@@ -29,16 +29,22 @@ fn owned<const D: usize>(partition: &Partition<D>, position: &[Vector<D>]) -> Ve
     owned
 }
 
-/// For every rank r, every particle within `radius` of a particle r owns (minimum image on
-/// periodic axes) is owned by r or in the halo the other ranks send to r.
-fn check_halos<const D: usize>(partition: &Partition<D>, position: &[Vector<D>], radius: Real) {
+/// For every rank r, every particle within `depth` × `radius` of a particle r owns (minimum
+/// image on periodic axes) is owned by r or in the halo `depth` cells deep the other ranks
+/// send to r.
+fn check_halos<const D: usize>(
+    partition: &Partition<D>,
+    position: &[Vector<D>],
+    radius: Real,
+    depth: u32,
+) {
     let domain = partition.cells().domain().clone();
     let owned = owned(partition, position);
     let ranks = partition.ranks();
     let mut seen = vec![vec![false; position.len()]; ranks];
     for (s, mine) in owned.iter().enumerate() {
         let local: Vec<_> = mine.iter().map(|&i| position[i]).collect();
-        let plan = halo_plan(partition, s, &local);
+        let plan = halo_plan(partition, s, &local, depth);
         assert!(plan.send[s].is_empty(), "rank {s} sends a halo to itself");
         for (r, indices) in plan.send.iter().enumerate() {
             for &k in indices {
@@ -52,7 +58,7 @@ fn check_halos<const D: usize>(partition: &Partition<D>, position: &[Vector<D>],
     for (r, mine) in owned.iter().enumerate() {
         for &i in mine {
             for (j, x_j) in position.iter().enumerate() {
-                if domain.displacement(&position[i], x_j).norm() <= radius {
+                if domain.displacement(&position[i], x_j).norm() <= Real::from(depth) * radius {
                     assert!(
                         seen[r][j],
                         "rank {r} owns particle {i} at {:?} but does not see its neighbour {j} at {:?} (owner {})",
@@ -75,7 +81,8 @@ fn every_neighbour_of_an_owned_particle_is_owned_or_in_the_halo() {
         for ranks in [1, 2, 3, 4, 7] {
             let cells = Cells::new(domain.clone(), radius).unwrap();
             let partition = Partition::from_particles(cells, ranks, &position, None).unwrap();
-            check_halos(&partition, &position, radius);
+            check_halos(&partition, &position, radius, 1);
+            check_halos(&partition, &position, radius, 2);
         }
     }
     for (periodic, seed) in [([false, false, false], 4), ([true, false, true], 5)] {
@@ -84,7 +91,7 @@ fn every_neighbour_of_an_owned_particle_is_owned_or_in_the_halo() {
         for ranks in [2, 5] {
             let cells = Cells::new(domain.clone(), 0.21).unwrap();
             let partition = Partition::from_particles(cells, ranks, &position, None).unwrap();
-            check_halos(&partition, &position, 0.21);
+            check_halos(&partition, &position, 0.21, 1);
         }
     }
 }
@@ -105,7 +112,7 @@ fn a_periodic_axis_split_across_ranks_sends_its_halo_across_the_face() {
     let partition = Partition::from_particles(cells, 3, &position, None).unwrap();
     let owned = owned(&partition, &position);
     assert!(owned.iter().all(|mine| !mine.is_empty()));
-    check_halos(&partition, &position, 0.29);
+    check_halos(&partition, &position, 0.29, 1);
 }
 
 /// On a uniform lattice each rank's work is its share within one cell's work.
@@ -157,7 +164,7 @@ fn ranks_without_particles_stay_empty() {
     let owned = owned(&partition, &position);
     assert_eq!(owned.iter().map(Vec::len).sum::<usize>(), position.len());
     assert_eq!(owned.iter().filter(|mine| mine.is_empty()).count(), 3);
-    check_halos(&partition, &position, 0.02);
+    check_halos(&partition, &position, 0.02, 1);
     // No work at all: rank 0 owns everything.
     let cells = Cells::new(test_domain::<2>([false, false]), 0.02).unwrap();
     let partition = Partition::balanced(cells, 4, Vec::new()).unwrap();
@@ -284,6 +291,6 @@ fn pairs_one_radius_apart_across_cell_faces_are_in_the_halo() {
     for ranks in [2, 3, 5, 8] {
         let cells = Cells::new(domain.clone(), 0.1).unwrap();
         let partition = Partition::from_particles(cells, ranks, &position, None).unwrap();
-        check_halos(&partition, &position, 0.1);
+        check_halos(&partition, &position, 0.1, 1);
     }
 }

@@ -26,6 +26,7 @@
 
 pub mod config_error;
 pub mod density_error;
+pub mod distributed;
 pub mod eos;
 pub mod lattice;
 pub mod lists;
@@ -41,7 +42,10 @@ pub mod wall_motion;
 
 pub use config_error::ConfigError;
 pub use density_error::{compression, density_errors};
+pub use distributed::{Distribution, ExchangeCounts};
 pub use eos::{EosKind, EquationOfState};
+/// The transport of a distributed run (MPI in `geosph-mpi`), as [`Solver::distribute`] takes it.
+pub use geosph_partition::Transport;
 pub use lists::{Neighbour, PairLists};
 pub use setup::{ParticleStart, SphSetup};
 pub use shifting::{NoShift, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm, ShiftingInput};

@@ -11,6 +11,10 @@ use geosph_kernels::Kernel;
 use geosph_neighbours::{CellGrid, SearchError};
 use rayon::prelude::*;
 
+use crate::distributed::Distribution;
+
+mod distribute;
+
 /// One neighbour j of particle i inside the kernel support, as a pair term needs it.
 #[derive(Clone, Copy, Debug)]
 pub struct Neighbour<const D: usize> {
@@ -51,8 +55,11 @@ pub struct PairLists<const D: usize> {
     listed_wall_position: Option<Vec<Vector<D>>>,
     valid: bool,
     builds: usize,
-    /// Steps between Z-order sorts of the particles (0: never).
+    /// Steps between Z-order sorts of the particles (0: never; a distributed run sorts at its
+    /// set-ups instead).
     pub reorder_every: usize,
+    /// This rank's share of a distributed run, if it is one ([`PairLists::distribute`]).
+    distribution: Option<Distribution<D>>,
 }
 
 impl<const D: usize> PairLists<D> {
@@ -86,6 +93,7 @@ impl<const D: usize> PairLists<D> {
             valid: false,
             builds: 0,
             reorder_every: 100,
+            distribution: None,
         })
     }
 

@@ -4,8 +4,10 @@
 use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_neighbours::SearchError;
+use geosph_partition::Transport;
 use serde::{Deserialize, Serialize};
 
+use crate::distributed::Distribution;
 use crate::state::{SolverState, StateError};
 use crate::wall_motion::{MotionError, WallMotion};
 
@@ -43,6 +45,12 @@ pub enum SolverError {
     /// Moving walls ([`WallMotion`]) failed or are not supported by this solver.
     #[error("{0}")]
     WallMotion(String),
+    /// The domain could not be shared between the ranks of a distributed run.
+    #[error(transparent)]
+    Partition(#[from] geosph_partition::PartitionError),
+    /// The solver (or what the scene asks of it) does not run distributed.
+    #[error("{0}")]
+    NotDistributed(String),
 }
 
 /// What a stage run before t = 0 reached (the soil's geostatic stage): a line for the run's
@@ -145,6 +153,27 @@ pub trait Solver<const D: usize>: Send {
 
     /// The walls' motion, if set.
     fn wall_motion(&self) -> Option<&dyn WallMotion<D>> {
+        None
+    }
+
+    /// Makes this the solver of one rank of a distributed run over `transport`
+    /// ([`crate::distributed`]); `particles` are then, from the first step on, this rank's
+    /// own followed by its halo ([`Solver::distribution`]). Every rank must hold every
+    /// particle when this is called (each built the same scene). An error for a solver that
+    /// does not run distributed (the default).
+    fn distribute(
+        &mut self,
+        _particles: &mut Particles<D>,
+        _transport: Box<dyn Transport>,
+    ) -> Result<(), SolverError> {
+        Err(SolverError::NotDistributed(format!(
+            "the {} solver does not run on several ranks yet: use `wcsph`",
+            self.name()
+        )))
+    }
+
+    /// This rank's share of a distributed run (`None` on one process).
+    fn distribution(&self) -> Option<&Distribution<D>> {
         None
     }
 

@@ -13,6 +13,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::rates::{ExplicitSystem, Rates};
 
+mod records;
+
 /// Smallest number of particles a parallel task handles: below it, waking a second thread
 /// costs more than it saves.
 const MIN_CHUNK: usize = 1024;

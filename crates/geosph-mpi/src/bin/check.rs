@@ -169,7 +169,7 @@ fn check<const D: usize>(
     for step in 0..4u64 {
         // The halo: every neighbour of a particle of this rank is here, to the bit.
         let position: Vec<_> = mine.iter().map(|p| p.1).collect();
-        let plan = halo_plan(&partition, rank, &position);
+        let plan = halo_plan(&partition, rank, &position, 1);
         halo_records += ranks.sum(plan.len() as u64);
         let received = ranks.exchange(&plan, D + 1, |i, values| pack(&mine[i], values));
         let everywhere = gather(ranks, &mine, n);

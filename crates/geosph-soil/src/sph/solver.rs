@@ -4,7 +4,8 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_sph::{
-    Solver, SolverError, SolverState, StageReport, StepReport, compression, event_step, max_speed,
+    Distribution, Solver, SolverError, SolverState, StageReport, StepReport, Transport,
+    compression, event_step, max_speed,
 };
 use geosph_time::{StepLimits, time_step};
 
@@ -47,20 +48,23 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
     }
 
     /// The stable step of the current state.
+    ///
+    /// In a distributed run, over every rank's owned particles.
     pub fn stable_step(&self, soil: &Particles<D>) -> Real {
-        let max_acceleration = self
-            .system
-            .acceleration()
-            .iter()
-            .fold(0.0, |max: Real, a| max.max(a.norm_squared()))
-            .sqrt()
-            .max(self.system.gravity.norm());
+        let lists = &self.system.lists;
+        let owned = lists.owned(soil.len());
+        let acceleration = self.system.acceleration();
+        let mut largest = [
+            max_speed(&soil.velocity[..owned]),
+            max_speed(&acceleration[..owned.min(acceleration.len())]),
+        ];
+        lists.max_over_ranks(&mut largest);
         time_step(&StepLimits {
             cfl: self.cfl,
             smoothing_length: self.system.kernel.smoothing_length(),
             sound_speed: self.system.wave_speed,
-            max_speed: max_speed(&soil.velocity),
-            max_acceleration,
+            max_speed: largest[0],
+            max_acceleration: largest[1].max(self.system.gravity.norm()),
             kinematic_viscosity: 0.0,
         })
     }
@@ -158,7 +162,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         _time: Real,
         max_dt: Real,
     ) -> Result<StepReport, SolverError> {
-        self.system.lists.sort_if_due(self.steps, soil)?;
+        self.system.reorder_if_due(self.steps, soil)?;
         let dt = event_step(self.stable_step(soil), max_dt);
         self.system.step(soil, dt)?;
         self.steps += 1;
@@ -168,12 +172,16 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
                 RegularisationConfig::Mls { every } => (every, true),
             };
             if self.steps % every == 0 {
+                // The halo moved with accelerations summed over part of its neighbours.
+                self.system.lists.exchange_halo(soil)?;
                 regularise_stress(&self.system, soil, mls, &mut self.scratch);
             }
         }
         // Only compression counts: elastic soil compresses by σ/M ≈ 0.1 %, so a large compression
         // is an instability, while a spreading front lowers its density legitimately.
-        let (mean, max) = compression(&soil.density, self.system.rest_density);
+        let owned = self.system.lists.owned(soil.len());
+        let (mean, max) = compression(&soil.density[..owned], self.system.rest_density);
+        let (mean, max, _) = self.system.lists.figures_over_ranks(mean, max, owned, 0);
         Ok(StepReport {
             dt,
             iterations: 1,
@@ -187,6 +195,26 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
 
     fn walls(&self) -> &WallParticles<D> {
         &self.system.walls
+    }
+
+    /// Shares the run once the geostatic stage, if any, has run: the stage runs on every rank
+    /// in full, before ([`Solver::initial_stage`]).
+    fn distribute(
+        &mut self,
+        _soil: &mut Particles<D>,
+        transport: Box<dyn Transport>,
+    ) -> Result<(), SolverError> {
+        if self.geostatic.is_some() {
+            return Err(SolverError::NotDistributed(
+                "the soil's geostatic stage runs on every rank before the run is shared: run `initial_stage` first".into(),
+            ));
+        }
+        self.system.lists.distribute(transport)?;
+        Ok(())
+    }
+
+    fn distribution(&self) -> Option<&Distribution<D>> {
+        self.system.lists.distribution()
     }
 
     fn sound_speed(&self) -> Real {

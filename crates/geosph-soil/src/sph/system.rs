@@ -7,7 +7,7 @@ use geosph_kernels::Kernel;
 use geosph_kernels::cspm::{MAX_CONDITION_NUMBER, well_conditioned_inverse};
 use geosph_neighbours::SearchError;
 use geosph_sph::lattice::lattice_gradient_factor;
-use geosph_sph::{ArtificialMonaghan1992, PairLists, SphSetup};
+use geosph_sph::{ArtificialMonaghan1992, PairLists, SolverError, SphSetup};
 use rayon::prelude::*;
 
 use crate::constitutive::Constitutive;
@@ -247,8 +247,23 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         Ok(())
     }
 
-    /// Wraps periodic positions and rebuilds stale neighbour lists; sizes the scratch arrays.
+    /// Between steps: the Z-order sort, or in a distributed run the set-up, when due
+    /// ([`PairLists::reorder_if_due`]); the accelerations of the last step (which bound the
+    /// next step) go with their particles.
+    pub fn reorder_if_due(
+        &mut self,
+        step: usize,
+        soil: &mut Particles<D>,
+    ) -> Result<bool, SolverError> {
+        self.acceleration.resize(soil.len(), Vector::zeros());
+        self.lists
+            .reorder_if_due(step, soil, &mut self.acceleration)
+    }
+
+    /// Refreshes the halo of a distributed run, wraps periodic positions and rebuilds stale
+    /// neighbour lists; sizes the scratch arrays.
     pub fn update_lists(&mut self, soil: &mut Particles<D>) -> Result<(), SearchError> {
+        self.lists.exchange_halo(soil)?;
         self.lists
             .update(&mut soil.position, &self.walls.position)?;
         let n = soil.len();
@@ -276,6 +291,9 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             (false, true) => self.kinematics_and_stress::<false, true>(soil, dt),
             (true, true) => self.kinematics_and_stress::<true, true>(soil, dt),
         }
+        // In a distributed run the halo's new stresses were summed over part of their
+        // neighbours; the walls' stress reads them two cells from the owned particles.
+        self.lists.exchange_halo(soil)?;
         self.update_walls(soil);
         self.momentum(soil, dt);
         let Particles {

@@ -1,0 +1,42 @@
+//! Issue 26's validation: the 2D dam break and the soil collapse on 1, 2 and 4 ranks under
+//! `mpiexec`, every particle against the same run in one process (`geosph-distributed-check`;
+//! its documentation states the round-off bounds). Needs the feature `mpi` and an MPI
+//! installation (`.ci/run` installs MPICH).
+#![cfg(feature = "mpi")]
+
+use std::time::Duration;
+
+use geosph_mpi::launch::{mpiexec, text};
+
+const CHECK: &str = env!("CARGO_BIN_EXE_geosph-distributed-check");
+
+/// A run takes a few seconds; a rank stuck in a collective fails the test instead of hanging
+/// CI.
+const TIMEOUT: Duration = Duration::from_secs(600);
+
+#[test]
+fn dam_break_and_soil_collapse_on_1_2_and_4_ranks_match_one_process() {
+    for ranks in [1, 2, 4] {
+        let output = mpiexec(ranks, CHECK, &[], TIMEOUT)
+            .expect("mpiexec must be on the PATH (Debian: apt-get install mpich libmpich-dev)");
+        let text = text(&output);
+        println!("{text}");
+        assert!(output.status.success(), "{ranks} ranks:\n{text}");
+        for case in ["dam-break-2d", "granular-collapse"] {
+            assert!(
+                text.contains(&format!("{case} dx ="))
+                    && text.contains(&format!("on {ranks} ranks")),
+                "{ranks} ranks, {case}:\n{text}"
+            );
+        }
+        assert!(!text.contains("FAILED"), "{text}");
+    }
+}
+
+#[test]
+fn bad_arguments_are_named() {
+    let output = mpiexec(1, CHECK, &["--dx-scale", "-1"], TIMEOUT).unwrap();
+    let text = text(&output);
+    assert_eq!(output.status.code(), Some(2), "{text}");
+    assert!(text.contains("--dx-scale -1"), "{text}");
+}

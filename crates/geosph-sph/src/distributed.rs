@@ -1,0 +1,331 @@
+//! A run distributed over ranks (issue 26): each rank owns the particles of a run of cells
+//! along the Z-order curve ([`geosph_partition::Partition`]) and holds, after them, a *halo*
+//! of copies of the other ranks' particles around its own.
+//!
+//! The halo is two cells deep (cells at least one interaction radius wide): every neighbour
+//! of an owned particle, and every neighbour of those, is local. So a pass that reads a value
+//! its neighbours summed over theirs (the wall pressure of Adami et al. 2012, the renormalised
+//! density gradient of δ-SPH) is right for every owned particle without an exchange between
+//! the passes: one refresh of the halo's fields before each rate evaluation suffices. What a
+//! rank computes for its halo particles is not used; their fields are overwritten at the next
+//! refresh.
+//!
+//! Ownership and the halo's composition change only at a *set-up*, between steps: when some
+//! particle has moved a quarter of the Verlet skin since the last one. Then particles that
+//! left a rank's cells move to their owner with the state their solver keeps of them
+//! ([`PerParticle`]), the owned particles are sorted along the curve, and the halo is made
+//! anew. Between set-ups the halo covers every pair as long as no particle moves more than half
+//! the skin, which [`Distribution::check`] verifies at every refresh.
+
+use std::sync::Mutex;
+use std::time::Instant;
+
+use geosph_core::{Domain, Particles, PerParticle, Permutation, Real, Vector};
+use geosph_neighbours::SearchError;
+use geosph_partition::{
+    Cells, ExchangePlan, Partition, PartitionError, Transport, halo_plan, imbalance, migration_plan,
+};
+
+/// Depth of the halo in cells: neighbours of neighbours are local.
+pub const HALO_DEPTH: u32 = 2;
+
+/// The imbalance (largest rank's work over the mean) above which a set-up cuts the cells
+/// anew.
+pub const REBALANCE_ABOVE: Real = 1.1;
+
+/// What the exchanges of a run did, for its summary.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ExchangeCounts {
+    /// Set-ups (migration and new halo).
+    pub setups: usize,
+    /// Set-ups that cut the cells anew.
+    pub partitions: usize,
+    /// Particles this rank received from others at set-ups.
+    pub migrated: usize,
+    /// Halo refreshes.
+    pub refreshes: usize,
+    /// Particles in this rank's halo now.
+    pub halo: usize,
+    /// Wall-clock seconds in exchanges and reductions.
+    pub seconds: f64,
+}
+
+/// One rank's share of a distributed run: its transport, the partition, which of its
+/// particles it owns (the first [`Distribution::owned`]) and the plan of its halo.
+pub struct Distribution<const D: usize> {
+    /// The transport and the seconds spent in it, behind a lock so that the lists stay
+    /// shareable between rayon's threads (MPI is called from the main thread only).
+    link: Mutex<Link>,
+    rank: usize,
+    size: usize,
+    cells: Cells<D>,
+    partition: Option<Partition<D>>,
+    owned: usize,
+    halo: ExchangePlan,
+    setup_position: Vec<Vector<D>>,
+    skin: Real,
+    counts: ExchangeCounts,
+}
+
+/// A transport and the wall time spent in it.
+struct Link {
+    transport: Box<dyn Transport>,
+    seconds: f64,
+}
+
+impl<const D: usize> Distribution<D> {
+    /// The share of this rank of `transport` in a run on `domain` whose lists reach `radius`
+    /// (the support plus the skin `skin`, which must be positive: the halo's margin).
+    pub fn new(
+        transport: Box<dyn Transport>,
+        domain: Domain<D>,
+        radius: Real,
+        skin: Real,
+    ) -> Result<Self, PartitionError> {
+        if !(skin > 0.0 && skin < radius) {
+            return Err(PartitionError::Skin { skin, radius });
+        }
+        Ok(Self {
+            rank: transport.rank(),
+            size: transport.size(),
+            link: Mutex::new(Link {
+                transport,
+                seconds: 0.0,
+            }),
+            cells: Cells::new(domain, radius)?,
+            partition: None,
+            owned: 0,
+            halo: ExchangePlan::default(),
+            setup_position: Vec::new(),
+            skin,
+            counts: ExchangeCounts::default(),
+        })
+    }
+
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+
+    /// Ranks in all.
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// The particles this rank owns: the first `owned` of its set, the halo after them.
+    pub fn owned(&self) -> usize {
+        self.owned
+    }
+
+    /// What the exchanges did so far.
+    pub fn counts(&self) -> ExchangeCounts {
+        ExchangeCounts {
+            seconds: self.link().seconds,
+            ..self.counts
+        }
+    }
+
+    /// The largest `value` over the ranks.
+    pub fn max(&self, value: Real) -> Real {
+        self.timed(|transport| transport.max(value))
+    }
+
+    /// The largest of each of `values` over the ranks, in place.
+    pub fn max_each(&self, values: &mut [Real]) {
+        self.timed(|transport| transport.max_each(values));
+    }
+
+    /// Every rank's `values` (the same number on every rank), concatenated in rank order.
+    pub fn gather_each(&self, values: &[Real]) -> Vec<Real> {
+        self.timed(|transport| transport.gather_each(values))
+    }
+
+    fn link(&self) -> std::sync::MutexGuard<'_, Link> {
+        self.link
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+
+    /// Runs `f` on the transport, adding its wall time to the exchanges'.
+    fn timed<T>(&self, f: impl FnOnce(&dyn Transport) -> T) -> T {
+        let mut link = self.link();
+        let start = Instant::now();
+        let result = f(link.transport.as_ref());
+        link.seconds += start.elapsed().as_secs_f64();
+        result
+    }
+
+    /// The largest |x − x_set-up|² of an owned particle over the ranks (collective).
+    fn moved2(&self, position: &[Vector<D>]) -> Real {
+        let domain = self.cells.domain();
+        let local = position[..self.owned]
+            .iter()
+            .zip(&self.setup_position)
+            .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
+            .fold(0.0, Real::max);
+        self.max(local)
+    }
+
+    /// Whether the next step should start with a set-up: before the first, or once some
+    /// particle has moved a quarter of the skin since the last (collective).
+    pub fn due(&self, position: &[Vector<D>]) -> bool {
+        self.partition.is_none() || 16.0 * self.moved2(position) > self.skin * self.skin
+    }
+
+    /// An error unless every particle is within half the skin of where it was at the last
+    /// set-up, so that the halo still holds every neighbour (collective).
+    pub fn check(&self, position: &[Vector<D>]) -> Result<(), SearchError> {
+        let moved = self.moved2(position).sqrt();
+        let limit = 0.5 * self.skin;
+        if moved > limit {
+            return Err(SearchError::HaloOutdated { moved, limit });
+        }
+        Ok(())
+    }
+
+    /// Migrates, sorts and makes the halo anew (collective): drops the halo of `particles`,
+    /// cuts the cells anew if this is the first set-up or the work (`work[i]` of owned
+    /// particle i, one each without) is out of balance, sends the owned particles that left
+    /// this rank's cells to their owners with their entries of `carried`, sorts the owned
+    /// particles along the curve (by cell, then id), and receives the halo (its entries of
+    /// `carried` are zero). At the first set-up every rank holds every particle (each built
+    /// the same scene) and keeps those it owns.
+    pub fn set_up(
+        &mut self,
+        particles: &mut Particles<D>,
+        carried: &mut dyn PerParticle,
+        work: Option<&[Real]>,
+    ) -> Result<(), PartitionError> {
+        let rank = self.rank();
+        let first = self.partition.is_none();
+        let owned = if first { particles.len() } else { self.owned };
+        particles.resize(owned);
+        carried.resize(owned);
+        self.balance(particles, work)?;
+        let partition = self.partition.as_ref().expect("balanced");
+
+        let (mut plan, keep) = migration_plan(partition, rank, &particles.position);
+        if first {
+            plan = ExchangePlan {
+                send: vec![Vec::new(); self.size],
+            };
+        }
+        let (width, extra) = (particles.record_width(), carried.record_width());
+        let received = self.timed(|transport| {
+            transport.exchange(&plan, width + extra, &mut |i, record| {
+                particles.pack(i, record);
+                carried.pack(i, record);
+            })
+        });
+        particles.retain(&keep);
+        carried.retain(&keep);
+        let kept = particles.len();
+        let arrived = received.values.len() / (width + extra);
+        particles.resize(kept + arrived);
+        carried.resize(kept + arrived);
+        for (k, record) in received.values.chunks_exact(width + extra).enumerate() {
+            particles.unpack(kept + k, &record[..width]);
+            carried.unpack(kept + k, &record[width..]);
+        }
+
+        let cells = &self.cells;
+        let mut order: Vec<u32> = (0..particles.len() as u32).collect();
+        order.sort_unstable_by_key(|&i| {
+            let i = i as usize;
+            (cells.key(&particles.position[i]), particles.id[i])
+        });
+        let permutation = Permutation::from_order(order).expect("a sort yields a permutation");
+        particles.permute(&permutation);
+        carried.permute(&permutation);
+        self.owned = particles.len();
+        self.setup_position.clear();
+        self.setup_position.extend_from_slice(&particles.position);
+
+        self.halo = halo_plan(partition, rank, &particles.position, HALO_DEPTH);
+        let received = self.timed(|transport| {
+            transport.exchange(&self.halo, width, &mut |i, record| {
+                particles.pack(i, record)
+            })
+        });
+        let halo = received.values.len() / width;
+        particles.resize(self.owned + halo);
+        carried.resize(self.owned + halo);
+        for (k, record) in received.values.chunks_exact(width).enumerate() {
+            particles.unpack(self.owned + k, record);
+        }
+        self.counts.setups += 1;
+        self.counts.migrated += arrived;
+        self.counts.halo = halo;
+        Ok(())
+    }
+
+    /// Cuts the cells by the owned particles' work if there is no partition yet or the work
+    /// is out of balance ([`REBALANCE_ABOVE`]); every rank gathers every cell's work, so all
+    /// cut alike.
+    fn balance(
+        &mut self,
+        particles: &Particles<D>,
+        work: Option<&[Real]>,
+    ) -> Result<(), PartitionError> {
+        let work_of = |i: usize| work.map_or(1.0, |work| work[i]);
+        let n = particles.len();
+        if self.partition.is_some() {
+            let total: Real = (0..n).map(work_of).sum();
+            let per_rank = self.timed(|transport| transport.all_gather(&[total]).values);
+            if imbalance(&per_rank) <= REBALANCE_ABOVE {
+                return Ok(());
+            }
+        }
+        let mut keyed: Vec<(u64, Real)> = (0..n)
+            .map(|i| (self.cells.key(&particles.position[i]), work_of(i)))
+            .collect();
+        keyed.sort_unstable_by_key(|&(key, _)| key);
+        // (high 32 bits of the key, low 32 bits, work) per cell: a key is exact in two f64.
+        let mut local = Vec::new();
+        for run in keyed.chunk_by(|a, b| a.0 == b.0) {
+            let key = run[0].0;
+            let work: Real = run.iter().map(|&(_, w)| w).sum();
+            local.extend_from_slice(&[(key >> 32) as Real, (key & 0xffff_ffff) as Real, work]);
+        }
+        // At the first set-up every rank holds every particle: its own list is everyone's.
+        let gathered = if self.partition.is_none() {
+            local
+        } else {
+            self.timed(|transport| transport.all_gather(&local).values)
+        };
+        let cell_work = gathered
+            .chunks_exact(3)
+            .map(|c| (((c[0] as u64) << 32) | c[1] as u64, c[2]))
+            .collect();
+        self.partition = Some(Partition::balanced(
+            self.cells.clone(),
+            self.size(),
+            cell_work,
+        )?);
+        self.counts.partitions += 1;
+        Ok(())
+    }
+
+    /// Overwrites the halo of `particles` with the current fields of the particles the other
+    /// ranks own (collective).
+    ///
+    /// # Panics
+    /// If the other ranks' halo plans changed without a set-up here.
+    pub fn refresh(&mut self, particles: &mut Particles<D>) {
+        let width = particles.record_width();
+        let received = self.timed(|transport| {
+            transport.exchange(&self.halo, width, &mut |i, record| {
+                particles.pack(i, record)
+            })
+        });
+        assert_eq!(
+            received.values.len(),
+            (particles.len() - self.owned) * width,
+            "a halo refresh must bring the particles of the last set-up"
+        );
+        for (k, record) in received.values.chunks_exact(width).enumerate() {
+            particles.unpack(self.owned + k, record);
+        }
+        self.counts.refreshes += 1;
+    }
+}

@@ -1,0 +1,79 @@
+//! The integrator's per-particle state as records, so that it moves with its particles
+//! between the ranks of a distributed run.
+
+use geosph_core::{PerParticle, Permutation, Real, Vector};
+
+use super::{Integrator, Scheme};
+
+/// Appends the components of `v` to `record`.
+fn push<const D: usize>(record: &mut Vec<Real>, v: &Vector<D>) {
+    record.extend_from_slice(v.as_slice());
+}
+
+/// Resizes `values` to `n` when the scheme uses it (`used`), else leaves it empty.
+fn resize_if<T: Clone>(values: &mut Vec<T>, used: bool, n: usize, zero: T) {
+    if used {
+        values.resize(n, zero);
+    }
+}
+
+/// Between steps an integrator keeps of each particle only its cached rates (a leap-frog
+/// step starts from the rates at the end of the previous one); the stage copies are scratch
+/// and are resized without being sent.
+impl<const D: usize> PerParticle for Integrator<D> {
+    fn record_width(&self) -> usize {
+        2 * D + 1
+    }
+
+    fn pack(&self, i: usize, record: &mut Vec<Real>) {
+        let rates = &self.rates;
+        push(record, &rates.acceleration[i]);
+        record.push(rates.density_rate[i]);
+        push(record, &rates.position_correction[i]);
+    }
+
+    fn unpack(&mut self, i: usize, record: &[Real]) {
+        let rates = &mut self.rates;
+        rates.acceleration[i]
+            .as_mut_slice()
+            .copy_from_slice(&record[..D]);
+        rates.density_rate[i] = record[D];
+        rates.position_correction[i]
+            .as_mut_slice()
+            .copy_from_slice(&record[D + 1..2 * D + 1]);
+    }
+
+    fn resize(&mut self, n: usize) {
+        let zero = Vector::<D>::zeros();
+        let scheme = self.scheme;
+        let rates = &mut self.rates;
+        rates.acceleration.resize(n, zero);
+        rates.density_rate.resize(n, 0.0);
+        rates.position_correction.resize(n, zero);
+        let rk4 = scheme == Scheme::RungeKutta4;
+        let accumulated = &mut self.accumulated;
+        resize_if(&mut accumulated.acceleration, rk4, n, zero);
+        resize_if(&mut accumulated.density_rate, rk4, n, 0.0);
+        resize_if(&mut accumulated.position_correction, rk4, n, zero);
+        let leap_frog = scheme == Scheme::LeapFrog;
+        resize_if(&mut self.position_rate, !leap_frog, n, zero);
+        let staged = matches!(scheme, Scheme::PredictorCorrector | Scheme::RungeKutta4);
+        let start = &mut self.start;
+        resize_if(&mut start.position, staged, n, zero);
+        let halves = scheme != Scheme::SymplecticEuler;
+        resize_if(&mut start.velocity, halves, n, zero);
+        resize_if(&mut start.density, halves, n, 0.0);
+    }
+
+    /// Keeps the entries `k` with `keep[k]`; unlike [`Integrator::retain`] the cached rates
+    /// stay current (the particles that go are not lost, they move to another rank).
+    fn retain(&mut self, keep: &[bool]) {
+        let current = self.rates_current;
+        Integrator::retain(self, keep);
+        self.rates_current = current;
+    }
+
+    fn permute(&mut self, permutation: &Permutation) {
+        Integrator::permute(self, permutation);
+    }
+}
