@@ -206,7 +206,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
     type Error = SearchError;
 
     fn prepare(&mut self, fluid: &mut Particles<D>) -> Result<(), SearchError> {
-        self.lists.exchange_halo(fluid)?;
+        self.lists.exchange_halo(fluid);
         self.lists
             .update(&mut fluid.position, &self.walls.position)?;
         let shepard = std::mem::take(&mut self.shepard_due);
@@ -217,7 +217,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             );
             self.update_pressure(fluid);
             // The halo's new densities were summed over part of their neighbours.
-            self.lists.exchange_halo(fluid)?;
+            self.lists.exchange_halo(fluid);
         }
         Ok(())
     }

@@ -122,6 +122,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
     }
 
     fn set_wall_motion(&mut self, motion: Box<dyn WallMotion<D>>) -> Result<(), SolverError> {
+        self.system.lists.single_process("a rigid body")?;
         self.system.lists.walls_move();
         self.motion = Some(motion);
         Ok(())
@@ -136,6 +137,9 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         _fluid: &mut Particles<D>,
         transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
+        self.system
+            .lists
+            .single_process("distributing a run again")?;
         if self.motion.is_some() {
             return Err(SolverError::NotDistributed(
                 "rigid bodies do not run on several ranks yet".into(),
@@ -174,6 +178,9 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         fluid: &mut Particles<D>,
         keep: &[bool],
     ) -> Result<(), SolverError> {
+        self.system
+            .lists
+            .single_process("a particle leaving the domain (enlarge the scene's `domain`)")?;
         fluid.retain(keep);
         self.integrator.retain(keep);
         self.system.lists.invalidate();
@@ -205,6 +212,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         mut state: SolverState,
         fluid: &mut Particles<D>,
     ) -> Result<(), SolverError> {
+        self.system.lists.single_process("a restart")?;
         let steps = state.steps_of(self.name())?;
         let arrays = &mut state.arrays;
         let n = fluid.len();

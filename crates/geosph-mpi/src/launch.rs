@@ -1,5 +1,6 @@
 //! Starting a distributed program under `mpiexec`, as tests and tools do.
 
+use std::io::Read;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -17,14 +18,20 @@ pub fn mpiexec(
     run(&mut command, timeout)
 }
 
-/// Runs `command` to its end, or kills it after `timeout` and returns an error.
+/// Runs `command` to its end, or kills it after `timeout` and returns an error. Its output is
+/// read while it runs, so that a program that writes much never blocks on a full pipe.
 pub fn run(command: &mut Command, timeout: Duration) -> std::io::Result<Output> {
     let mut child = command
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()?;
+    let stdout = read_all(child.stdout.take());
+    let stderr = read_all(child.stderr.take());
     let started = Instant::now();
-    while child.try_wait()?.is_none() {
+    let status = loop {
+        if let Some(status) = child.try_wait()? {
+            break status;
+        }
         if started.elapsed() > timeout {
             child.kill()?;
             return Err(std::io::Error::new(
@@ -33,8 +40,30 @@ pub fn run(command: &mut Command, timeout: Duration) -> std::io::Result<Output> 
             ));
         }
         std::thread::sleep(Duration::from_millis(50));
-    }
-    child.wait_with_output()
+    };
+    let joined = |reader: std::thread::JoinHandle<std::io::Result<Vec<u8>>>| {
+        reader
+            .join()
+            .unwrap_or_else(|_| Err(std::io::Error::other("the output reader panicked")))
+    };
+    Ok(Output {
+        status,
+        stdout: joined(stdout)?,
+        stderr: joined(stderr)?,
+    })
+}
+
+/// A thread reading `pipe` to its end.
+fn read_all(
+    pipe: Option<impl Read + Send + 'static>,
+) -> std::thread::JoinHandle<std::io::Result<Vec<u8>>> {
+    std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        if let Some(mut pipe) = pipe {
+            pipe.read_to_end(&mut bytes)?;
+        }
+        Ok(bytes)
+    })
 }
 
 /// The standard output and error of `output`, as text.

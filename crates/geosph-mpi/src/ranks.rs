@@ -207,10 +207,7 @@ impl Ranks {
     }
 
     /// Every rank's `values`, all of the same length, concatenated in rank order (one
-    /// MPI_Allgather).
-    ///
-    /// # Panics
-    /// (In MPI) if the ranks give different lengths.
+    /// MPI_Allgather; different lengths are an error of the caller that MPI need not detect).
     pub fn gather_each(&self, values: &[Real]) -> Vec<Real> {
         let mut gathered = vec![0.0; values.len() * self.size()];
         scope(|scope| {

@@ -68,19 +68,24 @@ pub enum SearchError {
         max: Vec<Real>,
     },
 
-    /// In a distributed run, a particle moved farther since its rank's halo was exchanged
-    /// than the halo covers (half the Verlet skin) within one step: some neighbours may be
+    /// In a distributed run, a particle moved farther since its rank's halo was made (the
+    /// last set-up) than the halo covers (half the Verlet skin): some neighbours may be
     /// missing.
     #[error(
-        "a particle moved {moved} m within one step since the halo was exchanged, more than \
-         half the Verlet skin ({limit} m) that the halo covers: lower `cfl` or enlarge the skin"
+        "a particle moved {moved} m since the ranks last exchanged their halos, more than \
+         half the Verlet skin ({limit} m) that a halo covers: lower `cfl` or enlarge the skin"
     )]
     HaloOutdated {
-        /// The largest displacement since the exchange.
+        /// The largest displacement since the halo was made.
         moved: Real,
         /// Half the skin.
         limit: Real,
     },
+
+    /// In a distributed run, another rank's search failed (its own error is in its output);
+    /// every rank stops.
+    #[error("the neighbour search failed on another rank of the run (its message says why)")]
+    OnAnotherRank,
 }
 
 /// `(x, y, z)` with Rust's shortest round-trip formatting of each coordinate.

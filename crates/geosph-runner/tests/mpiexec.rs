@@ -22,7 +22,7 @@ fn dam_break_and_soil_collapse_on_1_2_and_4_ranks_match_one_process() {
         let text = text(&output);
         println!("{text}");
         assert!(output.status.success(), "{ranks} ranks:\n{text}");
-        for case in ["dam-break-2d", "granular-collapse"] {
+        for case in ["dam-break-2d", "dam-break-2d-options", "granular-collapse"] {
             assert!(
                 text.contains(&format!("{case} dx ="))
                     && text.contains(&format!("on {ranks} ranks")),
@@ -30,6 +30,7 @@ fn dam_break_and_soil_collapse_on_1_2_and_4_ranks_match_one_process() {
             );
         }
         assert!(!text.contains("FAILED"), "{text}");
+        assert_eq!(text.matches("largest differences").count(), 3, "{text}");
     }
 }
 

@@ -6,16 +6,17 @@
 //! of an owned particle, and every neighbour of those, is local. So a pass that reads a value
 //! its neighbours summed over theirs (the wall pressure of Adami et al. 2012, the renormalised
 //! density gradient of δ-SPH) is right for every owned particle without an exchange between
-//! the passes: one refresh of the halo's fields before each rate evaluation suffices. What a
-//! rank computes for its halo particles is not used; their fields are overwritten at the next
-//! refresh.
+//! the passes that only read fields: the halo's fields are refreshed before each rate
+//! evaluation, and again after a pass that writes a field a later pass reads two cells away
+//! (a Shepard density, the soil's stress update). What a rank computes for its halo particles
+//! is not used; their fields are overwritten at the next refresh.
 //!
 //! Ownership and the halo's composition change only at a *set-up*, between steps: when some
 //! particle has moved a quarter of the Verlet skin since the last one. Then particles that
 //! left a rank's cells move to their owner with the state their solver keeps of them
 //! ([`PerParticle`]), the owned particles are sorted along the curve, and the halo is made
 //! anew. Between set-ups the halo covers every pair as long as no particle moves more than half
-//! the skin, which [`Distribution::check`] verifies at every refresh.
+//! the skin, which [`Distribution::agree`] verifies at every list update.
 
 use std::sync::Mutex;
 use std::time::Instant;
@@ -64,6 +65,9 @@ pub struct Distribution<const D: usize> {
     halo: ExchangePlan,
     setup_position: Vec<Vector<D>>,
     skin: Real,
+    /// The imbalance the last cut reached (cells are indivisible, so it may exceed
+    /// [`REBALANCE_ABOVE`]).
+    cut_imbalance: Real,
     counts: ExchangeCounts,
 }
 
@@ -75,7 +79,8 @@ struct Link {
 
 impl<const D: usize> Distribution<D> {
     /// The share of this rank of `transport` in a run on `domain` whose lists reach `radius`
-    /// (the support plus the skin `skin`, which must be positive: the halo's margin).
+    /// (the support plus the skin `skin`, which must be positive, the halo's margin, and
+    /// smaller than `radius`).
     pub fn new(
         transport: Box<dyn Transport>,
         domain: Domain<D>,
@@ -98,6 +103,7 @@ impl<const D: usize> Distribution<D> {
             halo: ExchangePlan::default(),
             setup_position: Vec::new(),
             skin,
+            cut_imbalance: 1.0,
             counts: ExchangeCounts::default(),
         })
     }
@@ -172,15 +178,34 @@ impl<const D: usize> Distribution<D> {
         self.partition.is_none() || 16.0 * self.moved2(position) > self.skin * self.skin
     }
 
-    /// An error unless every particle is within half the skin of where it was at the last
-    /// set-up, so that the halo still holds every neighbour (collective).
-    pub fn check(&self, position: &[Vector<D>]) -> Result<(), SearchError> {
-        let moved = self.moved2(position).sqrt();
-        let limit = 0.5 * self.skin;
+    /// The outcome of a list update that every rank agrees on (collective): this rank's
+    /// `result` if every rank succeeded and every particle is within half the skin of where it
+    /// was at the last set-up (so that the halo still holds every neighbour); otherwise an
+    /// error on every rank, this rank's own, [`SearchError::HaloOutdated`], or
+    /// [`SearchError::OnAnotherRank`]. So one rank's failure never leaves the others waiting
+    /// in the next exchange.
+    pub fn agree(
+        &self,
+        result: Result<bool, SearchError>,
+        position: &[Vector<D>],
+    ) -> Result<bool, SearchError> {
+        let domain = self.cells.domain();
+        let moved2 = position[..self.owned]
+            .iter()
+            .zip(&self.setup_position)
+            .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
+            .fold(0.0, Real::max);
+        let mut shared = [moved2, Real::from(u8::from(result.is_err()))];
+        self.max_each(&mut shared);
+        let [moved2, failed] = shared;
+        if failed > 0.0 {
+            return Err(result.err().unwrap_or(SearchError::OnAnotherRank));
+        }
+        let (moved, limit) = (moved2.sqrt(), 0.5 * self.skin);
         if moved > limit {
             return Err(SearchError::HaloOutdated { moved, limit });
         }
-        Ok(())
+        result
     }
 
     /// Migrates, sorts and makes the halo anew (collective): drops the halo of `particles`,
@@ -260,8 +285,9 @@ impl<const D: usize> Distribution<D> {
     }
 
     /// Cuts the cells by the owned particles' work if there is no partition yet or the work
-    /// is out of balance ([`REBALANCE_ABOVE`]); every rank gathers every cell's work, so all
-    /// cut alike.
+    /// is out of balance (above [`REBALANCE_ABOVE`], and 5 % above what the last cut reached:
+    /// cells too coarse to balance better are not cut again at every set-up); every rank
+    /// gathers every cell's work, so all cut alike.
     fn balance(
         &mut self,
         particles: &Particles<D>,
@@ -272,7 +298,7 @@ impl<const D: usize> Distribution<D> {
         if self.partition.is_some() {
             let total: Real = (0..n).map(work_of).sum();
             let per_rank = self.timed(|transport| transport.all_gather(&[total]).values);
-            if imbalance(&per_rank) <= REBALANCE_ABOVE {
+            if imbalance(&per_rank) <= REBALANCE_ABOVE.max(1.05 * self.cut_imbalance) {
                 return Ok(());
             }
         }
@@ -293,15 +319,13 @@ impl<const D: usize> Distribution<D> {
         } else {
             self.timed(|transport| transport.all_gather(&local).values)
         };
-        let cell_work = gathered
+        let cell_work: Vec<(u64, Real)> = gathered
             .chunks_exact(3)
             .map(|c| (((c[0] as u64) << 32) | c[1] as u64, c[2]))
             .collect();
-        self.partition = Some(Partition::balanced(
-            self.cells.clone(),
-            self.size(),
-            cell_work,
-        )?);
+        let partition = Partition::balanced(self.cells.clone(), self.size(), cell_work.clone())?;
+        self.cut_imbalance = imbalance(&partition.work_per_rank(&cell_work));
+        self.partition = Some(partition);
         self.counts.partitions += 1;
         Ok(())
     }

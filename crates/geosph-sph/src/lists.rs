@@ -161,12 +161,28 @@ impl<const D: usize> PairLists<D> {
 
     /// Wraps `position` and rebuilds the lists if they are stale (always without a skin);
     /// returns whether they were rebuilt.
+    ///
+    /// In a distributed run the ranks agree (collective): an error on any rank is an error on
+    /// all ([`Distribution::agree`]), and so is a halo that no longer holds every neighbour.
     pub fn update(
         &mut self,
         position: &mut [Vector<D>],
         wall_position: &[Vector<D>],
     ) -> Result<bool, SearchError> {
         self.wrap(position);
+        let result = self.rebuild_if_stale(position, wall_position);
+        match &self.distribution {
+            Some(distribution) => distribution.agree(result, position),
+            None => result,
+        }
+    }
+
+    /// Rebuilds the lists if they are stale; returns whether it did.
+    fn rebuild_if_stale(
+        &mut self,
+        position: &[Vector<D>],
+        wall_position: &[Vector<D>],
+    ) -> Result<bool, SearchError> {
         if !self.stale(position, wall_position) {
             return Ok(false);
         }

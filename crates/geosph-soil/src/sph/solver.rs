@@ -49,7 +49,7 @@ impl<const D: usize, K: Kernel<D>> SoilSolver<D, K> {
 
     /// The stable step of the current state.
     ///
-    /// In a distributed run, over every rank's owned particles.
+    /// In a distributed run, over every rank's owned particles (collective).
     pub fn stable_step(&self, soil: &Particles<D>) -> Real {
         let lists = &self.system.lists;
         let owned = lists.owned(soil.len());
@@ -173,7 +173,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
             };
             if self.steps % every == 0 {
                 // The halo moved with accelerations summed over part of its neighbours.
-                self.system.lists.exchange_halo(soil)?;
+                self.system.lists.exchange_halo(soil);
                 regularise_stress(&self.system, soil, mls, &mut self.scratch);
             }
         }
@@ -204,6 +204,9 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         _soil: &mut Particles<D>,
         transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
+        self.system
+            .lists
+            .single_process("distributing a run again")?;
         if self.geostatic.is_some() {
             return Err(SolverError::NotDistributed(
                 "the soil's geostatic stage runs on every rank before the run is shared: run `initial_stage` first".into(),
@@ -246,6 +249,9 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         soil: &mut Particles<D>,
         keep: &[bool],
     ) -> Result<(), SolverError> {
+        self.system
+            .lists
+            .single_process("a particle leaving the domain (enlarge the scene's `domain`)")?;
         soil.retain(keep);
         self.system.retain(keep);
         Ok(())
@@ -269,6 +275,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         mut state: SolverState,
         soil: &mut Particles<D>,
     ) -> Result<(), SolverError> {
+        self.system.lists.single_process("a restart")?;
         let steps = state.steps_of(self.name())?;
         // The checkpoint was written after the geostatic stage: its particles are restored,
         // and its release is applied to the walls of the scene.

@@ -263,7 +263,7 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
     /// Refreshes the halo of a distributed run, wraps periodic positions and rebuilds stale
     /// neighbour lists; sizes the scratch arrays.
     pub fn update_lists(&mut self, soil: &mut Particles<D>) -> Result<(), SearchError> {
-        self.lists.exchange_halo(soil)?;
+        self.lists.exchange_halo(soil);
         self.lists
             .update(&mut soil.position, &self.walls.position)?;
         let n = soil.len();
@@ -292,8 +292,12 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
             (true, true) => self.kinematics_and_stress::<true, true>(soil, dt),
         }
         // In a distributed run the halo's new stresses were summed over part of their
-        // neighbours; the walls' stress reads them two cells from the owned particles.
-        self.lists.exchange_halo(soil)?;
+        // neighbours (the walls' stress reads them two cells from the owned particles, the
+        // momentum their σ/ρ² and R): they are taken from their owners.
+        if self.lists.distribution().is_some() {
+            self.lists.exchange_halo(soil);
+            self.halo_stress_terms(soil);
+        }
         self.update_walls(soil);
         self.momentum(soil, dt);
         let Particles {
@@ -321,6 +325,25 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
                 }
             });
         Ok(())
+    }
+
+    /// σ/ρ² and R of the halo's particles from their σ and ρ, after a refresh brought them
+    /// from their owners.
+    fn halo_stress_terms(&mut self, soil: &Particles<D>) {
+        let owned = self.lists.owned(soil.len());
+        let stress = &soil
+            .soil
+            .as_ref()
+            .expect("soil particles carry soil fields")
+            .stress;
+        let (correction, artificial_stress) = (self.gradient_correction, self.artificial_stress);
+        for i in owned..soil.len() {
+            let (sigma, rho) = (&stress[i], soil.density[i]);
+            self.stress_term[i] = stress_terms(sigma, rho, correction);
+            if let Some(artificial_stress) = &artificial_stress {
+                self.tensile_term[i] = artificial_stress.particle_term(sigma, rho);
+            }
+        }
     }
 
     /// L_i and dρ_i/dt of every soil particle from v^n (with `CORRECT`, L_i CSPM-corrected;
@@ -460,6 +483,13 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
     }
 }
 
+/// c σ/ρ² of a particle (its D × D block; c the lattice gradient correction), as the momentum
+/// sums it.
+#[inline(always)]
+fn stress_terms<const D: usize>(sigma: &Tensor3, rho: Real, correction: Real) -> Matrix<D> {
+    block::<D>(sigma) * (correction / (rho * rho))
+}
+
 /// What the stress update of one step needs besides the particle.
 struct StressStep<const D: usize> {
     /// The constitutive model.
@@ -509,7 +539,7 @@ impl<const D: usize> StressStep<D> {
         *sigma = update.stress;
         *strain += strain_increment;
         *plastic += update.equivalent_plastic_strain_increment;
-        *term = block::<D>(sigma) * (self.correction / (*rho * *rho));
+        *term = stress_terms(sigma, *rho, self.correction);
         if let Some(artificial_stress) = &self.artificial_stress {
             *tensile = artificial_stress.particle_term(sigma, *rho);
         }
