@@ -12,8 +12,8 @@
 //! the results by orders of magnitude more (a halo one cell deep: 7 × 10⁻⁵ dx in the dam
 //! break).
 //!
-//! `mpiexec -n 4 geosph-distributed-check [--dx-scale 1] [--end-scale 1]`; exit status 1 if a
-//! check fails, 2 on bad input.
+//! `mpiexec -n 4 geosph-distributed-check [--dx-scale 1] [--end-scale 1] [--only <scene name>]`;
+//! exit status 1 if a check fails, 2 on bad input.
 
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -26,7 +26,12 @@ use geosph_soil::build_soil;
 use geosph_sph::Solver;
 
 /// A case: the scene's text, the (from, to) changes made to it, dx and end time.
-type Case = (&'static str, &'static [(&'static str, &'static str)], Real, Real);
+type Case = (
+    &'static str,
+    &'static [(&'static str, &'static str)],
+    Real,
+    Real,
+);
 
 const DAM_BREAK: &str = include_str!("../../../../data/scenes/dam-break-2d.ron");
 
@@ -77,14 +82,21 @@ fn main() -> ExitCode {
         }
     };
     ranks.abort_on_panic();
-    let result = scales().and_then(|(dx_scale, end_scale)| {
+    let result = arguments().and_then(|arguments| {
         let mut passed = true;
         for (text, changes, dx, end) in CASES {
             let mut text = text.to_owned();
             for (from, to) in changes {
                 text = text.replacen(from, to, 1);
             }
-            passed &= check(&ranks, &text, dx * dx_scale, end * end_scale)?;
+            let name = Scene::from_ron(&text)
+                .map_err(|error| error.to_string())?
+                .name;
+            if arguments.only.as_ref().is_some_and(|only| *only != name) {
+                continue;
+            }
+            let (dx, end) = (dx * arguments.dx_scale, end * arguments.end_scale);
+            passed &= check(&ranks, &text, dx, end)?;
         }
         Ok(passed)
     });
@@ -101,18 +113,33 @@ fn main() -> ExitCode {
     }
 }
 
-/// `--dx-scale` and `--end-scale` from the command line (factors on each case's dx and end).
-fn scales() -> Result<(Real, Real), String> {
-    let (mut dx, mut end) = (1.0, 1.0);
+/// The command line: factors on each case's dx and end time, and the one case to run.
+struct Arguments {
+    dx_scale: Real,
+    end_scale: Real,
+    only: Option<String>,
+}
+
+/// `--dx-scale`, `--end-scale` and `--only <scene name>` from the command line.
+fn arguments() -> Result<Arguments, String> {
+    let mut parsed = Arguments {
+        dx_scale: 1.0,
+        end_scale: 1.0,
+        only: None,
+    };
     let mut args = std::env::args().skip(1);
     while let Some(flag) = args.next() {
         let value = args.next().ok_or(format!("{flag} needs a value"))?;
-        let value: Real = value
+        if flag == "--only" {
+            parsed.only = Some(value);
+            continue;
+        }
+        let number: Real = value
             .parse()
             .map_err(|_| format!("{flag}: not a number: {value}"))?;
         match flag.as_str() {
-            "--dx-scale" if value > 0.0 => dx = value,
-            "--end-scale" if value > 0.0 => end = value,
+            "--dx-scale" if number > 0.0 => parsed.dx_scale = number,
+            "--end-scale" if number > 0.0 => parsed.end_scale = number,
             _ => {
                 return Err(format!(
                     "unknown flag or value out of range (> 0): {flag} {value}"
@@ -120,7 +147,7 @@ fn scales() -> Result<(Real, Real), String> {
             }
         }
     }
-    Ok((dx, end))
+    Ok(parsed)
 }
 
 /// The particles and solver of the scene, built as every rank builds them, after the
@@ -187,7 +214,9 @@ fn check(ranks: &Arc<Ranks>, text: &str, dx: Real, end: Real) -> Result<bool, St
         .map_err(|error| error.to_string())?
         .fluid_height;
     let stress_scale = solver.stress_scale(9.81, height).unwrap_or(1.0);
+    let start = std::time::Instant::now();
     let reference_steps = run(solver.as_mut(), &mut reference, end)?;
+    let reference_seconds = start.elapsed().as_secs_f64();
 
     let (mut particles, mut solver) = build(&scene)?;
     let total = particles.len();
@@ -250,7 +279,7 @@ fn check(ranks: &Arc<Ranks>, text: &str, dx: Real, end: Real) -> Result<bool, St
     let same_steps = steps == reference_steps;
     if rank == 0 {
         println!(
-            "{} dx = {dx} m to t = {end} s on {size} ranks: {total} particles, {steps} steps (one process: {reference_steps})",
+            "{} dx = {dx} m to t = {end} s on {size} ranks: {total} particles, {steps} steps (one process: {reference_steps} steps, {reference_seconds:.2} s)",
             scene.name
         );
         for (r, load) in loads.values.chunks_exact(6).enumerate() {
