@@ -82,8 +82,11 @@ fn load(cli: &Cli) -> Result<Scene, String> {
     }
     // Everything a user can get wrong is reported here, before any output or banner.
     scene.validate().map_err(|error| error.to_string())?;
-    geosph_runner::output::check_folder(&cli.out())
-        .map_err(|reason| format!("output folder `{}`: {reason}", cli.out().display()))?;
+    // Under `mpiexec` rank 0 alone writes the output.
+    if geosph_runner::cli::launch_root() {
+        geosph_runner::output::check_folder(&cli.out())
+            .map_err(|reason| format!("output folder `{}`: {reason}", cli.out().display()))?;
+    }
     Ok(scene)
 }
 
@@ -104,15 +107,20 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    eprintln!(
-        "dam-break: {} ({}D, dx = {} m, to t = {} s) -> {}",
-        scene.name,
-        scene.dimension,
-        scene.dx,
-        scene.end_time,
-        out.display()
-    );
+    let root = options.out_dir.is_some();
+    if root {
+        eprintln!(
+            "dam-break: {} ({}D, dx = {} m, to t = {} s) -> {}",
+            scene.name,
+            scene.dimension,
+            scene.dx,
+            scene.end_time,
+            out.display()
+        );
+    }
     match dam_break::run(&scene, &options) {
+        // The other ranks of a distributed run report nothing: rank 0 prints the summary.
+        Ok(_) if !root => ExitCode::SUCCESS,
         Ok(report) => {
             println!("{}", report.summary);
             if let Some(validation) = &report.validation {

@@ -107,7 +107,7 @@ impl Transport for OneRank {
 
 /// A shared transport (the program keeps it for its own gathers while a solver exchanges
 /// through it).
-impl<T: Transport + Sync> Transport for std::sync::Arc<T> {
+impl<T: Transport + Sync + ?Sized> Transport for std::sync::Arc<T> {
     fn rank(&self) -> usize {
         T::rank(self)
     }

@@ -45,16 +45,46 @@ impl RunArgs {
         }
     }
 
-    /// The run options into `out`, with Ctrl-C installed to stop the run at a checkpoint.
+    /// The run options into `out`, with Ctrl-C installed to stop the run at a checkpoint. Built
+    /// with the feature `mpi` and started by `mpiexec` on several ranks, the run is
+    /// distributed over them, and only rank 0 writes `out` and shows the progress.
     pub fn options(&self, out: PathBuf) -> Result<RunOptions, String> {
+        let transport = ranks()?;
+        let root = transport.as_ref().is_none_or(|ranks| ranks.0.rank() == 0);
         Ok(RunOptions {
-            out_dir: Some(out),
+            out_dir: root.then_some(out),
             vtk: self.no_vtk.then_some(false),
             threads: self.threads,
-            progress: !self.quiet,
+            progress: !self.quiet && root,
             checkpoint_every: self.checkpoint_every,
             restart: self.restart.clone(),
             interrupt: Some(interrupt::on_ctrl_c()?),
+            transport,
         })
     }
+}
+
+/// Whether this process is rank 0 of its launch, known before MPI starts (from the rank
+/// `mpiexec` gives it in the environment: MPICH's `PMI_RANK`, Open MPI's
+/// `OMPI_COMM_WORLD_RANK`, PMIx's `PMIX_RANK`); true for a program started alone. An app
+/// checks its output folder and prints its report on rank 0 only.
+pub fn launch_root() -> bool {
+    ["PMI_RANK", "OMPI_COMM_WORLD_RANK", "PMIX_RANK"]
+        .iter()
+        .find_map(|name| std::env::var(name).ok())
+        .is_none_or(|rank| rank.trim() == "0")
+}
+
+/// The ranks of this launch when built with the feature `mpi` (MPI started with funnelled
+/// threading; a failed rank aborts the job rather than leaving the others waiting); `None`
+/// otherwise.
+fn ranks() -> Result<Option<crate::Ranks>, String> {
+    #[cfg(feature = "mpi")]
+    {
+        let ranks = geosph_mpi::Ranks::init().map_err(|error| error.to_string())?;
+        ranks.abort_on_panic();
+        Ok(Some(crate::Ranks(std::sync::Arc::new(ranks))))
+    }
+    #[cfg(not(feature = "mpi"))]
+    Ok(None)
 }

@@ -72,6 +72,8 @@ pub use checkpoint::CheckpointEvery;
 pub use heights::HeightGauges;
 pub use loads::WallLoads;
 pub use observer::{NoObserver, Observer, push_records, take_records};
+pub use options::Ranks;
 pub use output::scene_outputs;
 pub use probes::PressureProbes;
 pub use run::{RunError, RunOptions, Summary, run};
+pub use summary::RankLoad;

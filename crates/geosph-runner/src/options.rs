@@ -4,6 +4,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
+use geosph_sph::Transport;
+
 use crate::checkpoint::CheckpointEvery;
 #[cfg(doc)]
 use crate::error::RunError;
@@ -26,6 +28,20 @@ pub struct RunOptions {
     /// Checked once per step: when set (e.g. by a Ctrl-C handler), the run writes the
     /// current frame and a checkpoint and stops with [`RunError::Interrupted`].
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// The ranks of a distributed run (MPI, started by `mpiexec`); `None` or one rank: the
+    /// run is one process. Rank 0 writes the output.
+    pub transport: Option<Ranks>,
+}
+
+/// The transport of a distributed run, shared between the runner (which gathers the
+/// particles for samples and frames) and the solver (which exchanges its halo).
+#[derive(Clone)]
+pub struct Ranks(pub Arc<dyn Transport + Sync>);
+
+impl std::fmt::Debug for Ranks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "rank {} of {}", self.0.rank(), self.0.size())
+    }
 }
 
 impl RunOptions {

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use geosph_core::{Particles, Real};
 use geosph_scene::Scene;
 use geosph_sph::{Solver, StepReport};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::ProgressBar;
 
 use crate::checkpoint::{self, Checkpoint, CheckpointClock, ParticleState, Progress};
 use crate::error::RunError;
@@ -23,8 +23,10 @@ use crate::output::RunOutput;
 use crate::probes::PressureProbes;
 use crate::summary::Summary;
 
+mod ranks;
 mod start;
-use start::{build_solver, open_output, restore};
+use ranks::RankView;
+use start::{build_solver, open_output, progress_bar, restore};
 
 /// One run in progress: the particles, the solver, the output and where the time loop stands.
 ///
@@ -63,6 +65,8 @@ pub(crate) struct RunLoop<'a, const D: usize> {
     last_draw: Instant,
     /// Times within this tolerance of an event count as reaching it.
     tolerance: Real,
+    /// This rank's view of a distributed run (`None` for one process).
+    ranks: Option<RankView<D>>,
 }
 
 impl<'a, const D: usize> RunLoop<'a, D> {
@@ -143,19 +147,26 @@ impl<'a, const D: usize> RunLoop<'a, D> {
                     source,
                 })?,
         };
-        let output = open_output(
-            scene,
-            options,
-            &*observer,
-            [
-                probes.columns(),
-                heights.columns(),
-                loads.columns(),
-                &motion_columns,
-            ],
-            restart.as_ref(),
-        )?;
-        let bar = progress_bar(options, scene.end_time);
+        let ranks = ranks::distribute(options, solver.as_mut(), &mut fluid).map_err(|source| {
+            RunError::Solver {
+                time: 0.0,
+                step: 0,
+                source,
+            }
+        })?;
+        // Rank 0 of a distributed run writes the output and shows the progress.
+        let root = ranks.as_ref().is_none_or(RankView::is_root);
+        let columns = [
+            probes.columns(),
+            heights.columns(),
+            loads.columns(),
+            &motion_columns,
+        ];
+        let output = match root {
+            true => open_output(scene, options, &*observer, columns, restart.as_ref())?,
+            false => None,
+        };
+        let bar = progress_bar(options.progress && root, scene.end_time);
         let started = Instant::now();
         let state = restart.unwrap_or_default();
         let first_step = state.steps as usize;
@@ -189,6 +200,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             started,
             last_draw: Instant::now(),
             tolerance: 1e-9 * scene.end_time,
+            ranks,
         };
         if first_step == 0 {
             run.write_start(stage)?;
@@ -240,29 +252,34 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             .min(self.next_sample)
             .min(self.scene.end_time);
         self.last_good.clone_from(&self.fluid);
+        let last_good_owned = self.owned();
         let report = self.advance(time, next_event - time)?;
         let last_good_time = time;
         let time = time + report.dt;
         self.state.time = time;
         self.state.steps += 1;
         let steps = self.state.steps as usize;
-        let escape = self
-            .escapes
-            .after_step(
-                &mut self.fluid,
-                self.solver.as_mut(),
-                &mut self.limits,
-                &mut self.state,
-                time,
-            )
-            .map_err(|source| RunError::Solver {
-                time,
-                step: steps,
-                source,
-            })?;
+        // A distributed run's list update stops every rank when a particle leaves the domain.
+        let escape = match self.ranks {
+            Some(_) => Removal::Nothing,
+            None => self
+                .escapes
+                .after_step(
+                    &mut self.fluid,
+                    self.solver.as_mut(),
+                    &mut self.limits,
+                    &mut self.state,
+                    time,
+                )
+                .map_err(|source| RunError::Solver {
+                    time,
+                    step: steps,
+                    source,
+                })?,
+        };
         let diagnosis = match escape {
             Removal::TooMany(diagnosis) => Some(diagnosis),
-            _ => health::check(&report, &self.fluid, self.solver.as_ref(), &self.limits),
+            _ => self.health(&report, last_good_owned),
         };
         if let Some(diagnosis) = diagnosis {
             return Err(self.blow_up(diagnosis, steps, (time, last_good_time)));
@@ -276,15 +293,21 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             state.wall_contacts += report.wall_contacts as u64;
             state.first_wall_contact.get_or_insert(time);
         }
-        if time >= self.next_sample - self.tolerance {
+        let sample_due = time >= self.next_sample - self.tolerance;
+        let output_due = time >= self.next_output - self.tolerance;
+        if sample_due || output_due {
+            self.gather();
+        }
+        if sample_due {
             self.sample(time, steps, &report)?;
             self.state.samples += 1;
             self.state.rows += 1;
             self.next_sample = self.state.samples as Real * self.scene.output.sample_interval;
         }
-        if time >= self.next_output - self.tolerance {
+        if output_due {
             if let Some(output) = &mut self.output {
-                output.write_frame(time, &self.fluid, self.solver.as_ref())?;
+                let fluid = self.ranks.as_ref().map_or(&self.fluid, |view| &view.whole);
+                output.write_frame(time, fluid, self.solver.as_ref())?;
                 self.state.frames = output.frames() as u64;
             }
             self.state.outputs += 1;
@@ -337,7 +360,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
     /// One row of `diagnostics.csv`: the run's own columns, the observer's, the probes', the
     /// water levels' and the load gauges'.
     fn sample(&mut self, time: Real, step: usize, report: &StepReport) -> Result<(), RunError> {
-        let fluid = &self.fluid;
+        let fluid = self.ranks.as_ref().map_or(&self.fluid, |view| &view.whole);
         self.row.clear();
         self.row.extend_from_slice(&[
             time,
@@ -367,11 +390,17 @@ impl<'a, const D: usize> RunLoop<'a, D> {
     /// Writes a checkpoint when one is due or the run was interrupted; after an interrupt,
     /// also the current frame, and ends the run.
     fn checkpoint_or_interrupt(&mut self, time: Real, steps: usize) -> Result<(), RunError> {
-        let interrupted = self
+        let mut interrupted = self
             .options
             .interrupt
             .as_ref()
             .is_some_and(|flag| flag.load(Ordering::Relaxed));
+        if let Some(view) = &self.ranks {
+            [interrupted] = view.any([interrupted]);
+            if interrupted {
+                self.take_whole();
+            }
+        }
         let finished = time >= self.scene.end_time - self.tolerance;
         let can_save = self.checkpoint_path.is_some() && self.output.is_some();
         if can_save && (interrupted || (!finished && self.checkpoints.due(time))) {
@@ -467,6 +496,11 @@ impl<'a, const D: usize> RunLoop<'a, D> {
     pub(crate) fn finish(mut self) -> Result<Summary, RunError> {
         self.bar.finish_and_clear();
         let wall_time = self.started.elapsed().as_secs_f64();
+        let ranks = match &self.ranks {
+            Some(view) => view.loads(self.solver.as_ref()),
+            None => Vec::new(),
+        };
+        self.take_whole();
         let state = &self.state;
         let steps = state.steps as usize;
         let frames = match &mut self.output {
@@ -521,6 +555,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             wall_contacts: state.wall_contacts as usize,
             first_wall_contact: state.first_wall_contact,
             stage: state.stage.clone(),
+            ranks,
         })
     }
 }
@@ -532,20 +567,4 @@ fn kinetic_energy<const D: usize>(fluid: &Particles<D>) -> Real {
         .zip(&fluid.mass)
         .map(|(v, m)| 0.5 * m * v.norm_squared())
         .sum()
-}
-
-fn progress_bar(options: &RunOptions, end_time: Real) -> ProgressBar {
-    let bar = ProgressBar::with_draw_target(
-        Some((end_time * 1e4).ceil() as u64),
-        if options.progress {
-            ProgressDrawTarget::stderr_with_hz(4)
-        } else {
-            ProgressDrawTarget::hidden()
-        },
-    );
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} t = {msg} [{elapsed_precise}, ETA {eta}]")
-            .expect("a valid template"),
-    );
-    bar
 }

@@ -59,6 +59,22 @@ pub struct Summary {
     /// The stage the solver ran before t = 0 ([`geosph_sph::Solver::initial_stage`]; the soil's
     /// geostatic stage), also after a restart from a checkpoint written after it.
     pub stage: Option<StageReport>,
+    /// Each rank's share of a distributed run (empty for one process).
+    pub ranks: Vec<RankLoad>,
+}
+
+/// One rank's share of a distributed run, for the summary.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RankLoad {
+    /// Particles the rank owns at the end.
+    pub particles: usize,
+    /// Particles in its halo at the end.
+    pub halo: usize,
+    /// Set-ups (migration and new halo) it took part in.
+    pub setups: usize,
+    /// Wall-clock seconds it spent in exchanges and reductions (waiting for the others
+    /// included).
+    pub exchange_seconds: Real,
 }
 
 impl std::fmt::Display for Summary {
@@ -136,6 +152,13 @@ impl std::fmt::Display for Summary {
                 "wall contacts      {} particle-steps put back on a wall's surface, first at t = {first:.3} s \
                  (the walls' pressure alone did not stop them: docs/fluid.md, \"Walls that hold\")",
                 self.wall_contacts
+            )?;
+        }
+        for (rank, load) in self.ranks.iter().enumerate() {
+            writeln!(
+                f,
+                "rank {rank:<13} {} particles + {} halo, {} set-ups, {:.2} s in exchanges",
+                load.particles, load.halo, load.setups, load.exchange_seconds
             )?;
         }
         if let Some(stage) = &self.stage {

@@ -3,11 +3,12 @@
 
 use std::path::Path;
 
-use geosph_core::Particles;
+use geosph_core::{Particles, Real};
 use geosph_fluid::{IncompressibleMethod, build_incompressible, build_wcsph};
 use geosph_scene::{Scene, SolverSpec};
 use geosph_sph::{Solver, SphSetup};
 use geosph_surface::SurfaceParameters;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint::{Checkpoint, CheckpointError, Progress};
 use crate::error::RunError;
@@ -110,4 +111,21 @@ fn restart_mismatch(path: &Path, reason: String) -> RunError {
         path: path.to_path_buf(),
         reason,
     })
+}
+
+/// The progress bar to `end_time`, drawn on standard error when `shown`.
+pub(super) fn progress_bar(shown: bool, end_time: Real) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(
+        Some((end_time * 1e4).ceil() as u64),
+        if shown {
+            ProgressDrawTarget::stderr_with_hz(4)
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} t = {msg} [{elapsed_precise}, ETA {eta}]")
+            .expect("a valid template"),
+    );
+    bar
 }

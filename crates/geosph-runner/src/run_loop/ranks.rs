@@ -1,0 +1,171 @@
+//! The run loop on one rank of a distributed run ([`RunOptions::transport`]): the solver steps
+//! this rank's particles (its own, then its halo); what the run does with *all* particles (the
+//! sample, the frame, the summary, a blow-up's files) works on every particle gathered from
+//! the ranks, in id order, at the times it is needed; the health check runs on each rank's
+//! own particles every step, and the ranks agree on its outcome and on an interrupt.
+//!
+//! Gathering puts every particle on every rank at each sample and frame: simple, and exact
+//! (every rank's observer sees the same particles, so all keep the same state), but its memory
+//! is that of the whole run on each rank. Writing per-rank pieces (`.pvtu`) and reducing the
+//! samples instead is the next step (docs/parallel.md).
+
+use std::sync::Arc;
+
+use geosph_core::{Particles, Real};
+use geosph_sph::{Solver, SolverError, Transport};
+
+use crate::options::RunOptions;
+use crate::summary::RankLoad;
+
+/// This rank's view of a distributed run.
+pub(super) struct RankView<const D: usize> {
+    transport: Arc<dyn Transport + Sync>,
+    /// Every particle of the run, in id order, as of the last [`RankView::gather`].
+    pub(super) whole: Particles<D>,
+    /// The owned particles of the last step, copied for the health check.
+    owned: Particles<D>,
+}
+
+/// Makes `solver` one rank's share of the run when `options` has a transport of more than
+/// one rank (after the solver's stage before t = 0, which every rank runs in full); `None`
+/// otherwise. Checkpoints and restarts are not distributed yet: an error.
+pub(super) fn distribute<const D: usize>(
+    options: &RunOptions,
+    solver: &mut dyn Solver<D>,
+    fluid: &mut Particles<D>,
+) -> Result<Option<RankView<D>>, SolverError> {
+    let Some(transport) = options
+        .transport
+        .as_ref()
+        .map(|ranks| &ranks.0)
+        .filter(|t| t.size() > 1)
+    else {
+        return Ok(None);
+    };
+    if options.restart.is_some() || options.checkpoint_every.is_some() {
+        return Err(SolverError::NotDistributed(
+            "checkpoints and restarts (`--checkpoint-every`, `--restart`) do not run on several ranks yet".into(),
+        ));
+    }
+    solver.distribute(fluid, Box::new(Arc::clone(transport)))?;
+    Ok(Some(RankView {
+        transport: Arc::clone(transport),
+        whole: fluid.clone(),
+        owned: Particles::default(),
+    }))
+}
+
+impl<const D: usize> RankView<D> {
+    /// Whether this is rank 0, the one that writes the output and reports.
+    pub(super) fn is_root(&self) -> bool {
+        self.transport.rank() == 0
+    }
+
+    /// Gathers every rank's owned particles of `local` (the first `owned`) into
+    /// [`RankView::whole`], in id order (collective).
+    pub(super) fn gather(&mut self, local: &Particles<D>, owned: usize) {
+        let width = local.record_width();
+        let mut mine = Vec::with_capacity(owned * width);
+        for i in 0..owned {
+            local.pack(i, &mut mine);
+        }
+        let gathered = self.transport.all_gather(&mine).values;
+        let mut records: Vec<&[Real]> = gathered.chunks_exact(width).collect();
+        // The id follows position, velocity, mass and density.
+        records.sort_unstable_by(|a, b| a[2 * D + 2].total_cmp(&b[2 * D + 2]));
+        self.whole.resize(records.len());
+        for (k, record) in records.into_iter().enumerate() {
+            self.whole.unpack(k, record);
+        }
+    }
+
+    /// This rank's owned particles of `local`, copied (for the health check).
+    pub(super) fn owned(&mut self, local: &Particles<D>, owned: usize) -> &Particles<D> {
+        self.owned.clone_from(local);
+        self.owned.resize(owned);
+        &self.owned
+    }
+
+    /// For each flag, whether some rank raised it (collective).
+    pub(super) fn any<const N: usize>(&self, flags: [bool; N]) -> [bool; N] {
+        let mut values = flags.map(|flag| Real::from(u8::from(flag)));
+        self.transport.max_each(&mut values);
+        values.map(|value| value > 0.0)
+    }
+
+    /// Every rank's particles, halo and exchange time (collective).
+    pub(super) fn loads(&self, solver: &dyn Solver<D>) -> Vec<RankLoad> {
+        let Some(distribution) = solver.distribution() else {
+            return Vec::new();
+        };
+        let counts = distribution.counts();
+        let mine = [
+            distribution.owned() as Real,
+            counts.halo as Real,
+            counts.setups as Real,
+            counts.seconds,
+        ];
+        self.transport
+            .gather_each(&mine)
+            .chunks_exact(4)
+            .map(|load| RankLoad {
+                particles: load[0] as usize,
+                halo: load[1] as usize,
+                setups: load[2] as usize,
+                exchange_seconds: load[3],
+            })
+            .collect()
+    }
+}
+
+impl<const D: usize> super::RunLoop<'_, D> {
+    /// The particles this rank owns: the first of its set (all of them in one process).
+    pub(super) fn owned(&self) -> usize {
+        self.solver
+            .distribution()
+            .map_or(self.fluid.len(), |distribution| distribution.owned())
+    }
+
+    /// Gathers every particle into the rank view (collective; nothing in one process).
+    pub(super) fn gather(&mut self) {
+        let owned = self.owned();
+        if let Some(view) = &mut self.ranks {
+            view.gather(&self.fluid, owned);
+        }
+    }
+
+    /// Makes the particles of the loop every particle of the run (collective; nothing in one
+    /// process): what a run that ends (finished, interrupted, blown up) reports and writes.
+    pub(super) fn take_whole(&mut self) {
+        self.gather();
+        if let Some(view) = &self.ranks {
+            self.fluid.clone_from(&view.whole);
+        }
+    }
+
+    /// The health check after a step (`health::check`): in a distributed run on each rank's
+    /// own particles, the ranks agreeing on the outcome; when one found trouble, the failed
+    /// and last good states of every particle (the last good one's owned particles were the
+    /// first `last_good_owned`) become the loop's, and the check on them gives the diagnosis
+    /// every rank reports (collective).
+    pub(super) fn health(
+        &mut self,
+        report: &geosph_sph::StepReport,
+        last_good_owned: usize,
+    ) -> Option<crate::health::Diagnosis> {
+        let owned = self.owned();
+        let Some(view) = &mut self.ranks else {
+            return crate::health::check(report, &self.fluid, self.solver.as_ref(), &self.limits);
+        };
+        let mine = view.owned(&self.fluid, owned);
+        let found = crate::health::check(report, mine, self.solver.as_ref(), &self.limits);
+        let [any] = view.any([found.is_some()]);
+        if !any {
+            return None;
+        }
+        view.gather(&self.last_good, last_good_owned);
+        self.last_good.clone_from(&view.whole);
+        self.take_whole();
+        crate::health::check(report, &self.fluid, self.solver.as_ref(), &self.limits).or(found)
+    }
+}
