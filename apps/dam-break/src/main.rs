@@ -148,15 +148,28 @@ fn main() -> ExitCode {
         }
         Err(dam_break::Error::Run(error @ RunError::Interrupted { .. })) => {
             eprintln!("dam-break: {error}");
-            ExitCode::from(interrupt::EXIT_INTERRUPTED)
+            end_ranks(&options, interrupt::EXIT_INTERRUPTED)
         }
         Err(error) => {
             eprintln!("error: {error}");
             match error {
                 // 3 for a blow-up (the report is in the output folder), 1 otherwise.
-                dam_break::Error::Run(error) => ExitCode::from(error.exit_code()),
-                _ => ExitCode::FAILURE,
+                dam_break::Error::Run(error) => end_ranks(&options, error.exit_code()),
+                _ => end_ranks(&options, 1),
             }
         }
     }
+}
+
+/// Exit status `code`; in a distributed run every rank's, at once (an error on some ranks, a
+/// failed write on rank 0, must not leave the others waiting).
+fn end_ranks(options: &geosph_runner::RunOptions, code: u8) -> ExitCode {
+    if let Some(ranks) = options
+        .transport
+        .as_ref()
+        .filter(|ranks| ranks.0.size() > 1)
+    {
+        ranks.0.abort(i32::from(code));
+    }
+    ExitCode::from(code)
 }

@@ -19,12 +19,12 @@ pub enum MpiError {
     AlreadyInitialised,
     /// The MPI library does not let rayon's threads run beside MPI calls.
     #[error(
-        "the MPI library gives thread support {0:?}; geosph needs at least Funneled (MPI called from the main thread while rayon threads compute)"
+        "the MPI library gives thread support {0:?}; geosph needs at least Serialized (MPI called by one thread at a time, not always the main one, while rayon threads compute)"
     )]
     Threading(Threading),
 }
 
-/// The ranks of a run (MPI's world communicator), initialised with funnelled threading and
+/// The ranks of a run (MPI's world communicator), initialised with serialised threading and
 /// finalised when dropped. A program started without `mpiexec` is one rank (MPI's singleton
 /// start).
 pub struct Ranks {
@@ -35,9 +35,9 @@ pub struct Ranks {
 impl Ranks {
     /// Initialises MPI; once per process.
     pub fn init() -> Result<Self, MpiError> {
-        let (universe, threading) = mpi::initialize_with_threading(Threading::Funneled)
+        let (universe, threading) = mpi::initialize_with_threading(Threading::Serialized)
             .ok_or(MpiError::AlreadyInitialised)?;
-        if threading < Threading::Funneled {
+        if threading < Threading::Serialized {
             return Err(MpiError::Threading(threading));
         }
         Ok(Self {
@@ -55,6 +55,12 @@ impl Ranks {
             report(info);
             std::process::abort();
         }));
+    }
+
+    /// Ends every rank of the job with `code` (MPI_Abort): for an error on some ranks only,
+    /// which would otherwise leave the others waiting in their next collective.
+    pub fn abort(&self, code: i32) -> ! {
+        self.world.abort(code)
     }
 
     /// This process's rank.
@@ -265,6 +271,10 @@ impl Transport for Ranks {
 
     fn gather_each(&self, values: &[Real]) -> Vec<Real> {
         Ranks::gather_each(self, values)
+    }
+
+    fn abort(&self, code: i32) -> ! {
+        Ranks::abort(self, code)
     }
 }
 

@@ -65,6 +65,12 @@ pub trait Transport: Send {
     fn sum(&self, value: Real) -> Real {
         self.gather_each(&[value]).iter().sum()
     }
+
+    /// Ends every rank of the run with exit status `code`: for an error some ranks met and
+    /// others did not, which would leave those waiting in their next exchange.
+    fn abort(&self, code: i32) -> ! {
+        std::process::exit(code)
+    }
 }
 
 /// The transport of a run on one rank: nothing to exchange.
@@ -143,5 +149,9 @@ impl<T: Transport + Sync + ?Sized> Transport for std::sync::Arc<T> {
 
     fn sum(&self, value: Real) -> Real {
         T::sum(self, value)
+    }
+
+    fn abort(&self, code: i32) -> ! {
+        T::abort(self, code)
     }
 }

@@ -75,7 +75,7 @@ pub fn launch_root() -> bool {
         .is_none_or(|rank| rank.trim() == "0")
 }
 
-/// The ranks of this launch when built with the feature `mpi` (MPI started with funnelled
+/// The ranks of this launch when built with the feature `mpi` (MPI started with serialised
 /// threading; a failed rank aborts the job rather than leaving the others waiting); `None`
 /// otherwise.
 fn ranks() -> Result<Option<crate::Ranks>, String> {

@@ -252,14 +252,15 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             .min(self.next_sample)
             .min(self.scene.end_time);
         self.last_good.clone_from(&self.fluid);
-        let last_good_owned = self.owned();
+        let last_good_owned = self.owned_after_split();
         let report = self.advance(time, next_event - time)?;
         let last_good_time = time;
         let time = time + report.dt;
         self.state.time = time;
         self.state.steps += 1;
         let steps = self.state.steps as usize;
-        // A distributed run's list update stops every rank when a particle leaves the domain.
+        // A distributed run does not remove particles: one that left the domain ends it as a
+        // blow-up (the health check, or the list update on every rank).
         let escape = match self.ranks {
             Some(_) => Removal::Nothing,
             None => self
@@ -277,9 +278,11 @@ impl<'a, const D: usize> RunLoop<'a, D> {
                     source,
                 })?,
         };
+        let sample_due = time >= self.next_sample - self.tolerance;
+        let output_due = time >= self.next_output - self.tolerance;
         let diagnosis = match escape {
             Removal::TooMany(diagnosis) => Some(diagnosis),
-            _ => self.health(&report, last_good_owned),
+            _ => self.health(&report, last_good_owned, sample_due || output_due),
         };
         if let Some(diagnosis) = diagnosis {
             return Err(self.blow_up(diagnosis, steps, (time, last_good_time)));
@@ -292,11 +295,6 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         if report.wall_contacts > 0 {
             state.wall_contacts += report.wall_contacts as u64;
             state.first_wall_contact.get_or_insert(time);
-        }
-        let sample_due = time >= self.next_sample - self.tolerance;
-        let output_due = time >= self.next_output - self.tolerance;
-        if sample_due || output_due {
-            self.gather();
         }
         if sample_due {
             self.sample(time, steps, &report)?;

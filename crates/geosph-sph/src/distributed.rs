@@ -55,7 +55,7 @@ pub struct ExchangeCounts {
 /// particles it owns (the first [`Distribution::owned`]) and the plan of its halo.
 pub struct Distribution<const D: usize> {
     /// The transport and the seconds spent in it, behind a lock so that the lists stay
-    /// shareable between rayon's threads (MPI is called from the main thread only).
+    /// shareable between rayon's threads (MPI is called by the thread running the step only).
     link: Mutex<Link>,
     rank: usize,
     size: usize,

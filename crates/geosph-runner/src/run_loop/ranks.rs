@@ -143,29 +143,48 @@ impl<const D: usize> super::RunLoop<'_, D> {
         }
     }
 
-    /// The health check after a step (`health::check`): in a distributed run on each rank's
-    /// own particles, the ranks agreeing on the outcome; when one found trouble, the failed
-    /// and last good states of every particle (the last good one's owned particles were the
-    /// first `last_good_owned`) become the loop's, and the check on them gives the diagnosis
-    /// every rank reports (collective).
+    /// The owned particles of a distributed run once the first step has shared them out
+    /// (`None` before, when every rank holds every particle, and in one process).
+    pub(super) fn owned_after_split(&self) -> Option<usize> {
+        self.solver
+            .distribution()
+            .filter(|distribution| distribution.counts().setups > 0)
+            .map(|distribution| distribution.owned())
+    }
+
+    /// The health check after a step (`health::check`). In a distributed run each rank checks
+    /// its own particles and the ranks agree whether one found trouble; then, and whenever
+    /// `gather` (a sample or frame is due, so that the energy budget, a sum over every
+    /// particle, is checked at least then), every particle is gathered and checked as one
+    /// process would, with the same outcome on every rank. On trouble the failed and last good
+    /// states of every particle (the last good one's owned particles were the first
+    /// `last_good_owned`; `None`: it held every particle) become the loop's, for the report.
     pub(super) fn health(
         &mut self,
         report: &geosph_sph::StepReport,
-        last_good_owned: usize,
+        last_good_owned: Option<usize>,
+        gather: bool,
     ) -> Option<crate::health::Diagnosis> {
         let owned = self.owned();
+        let (solver, limits) = (self.solver.as_ref(), &self.limits);
         let Some(view) = &mut self.ranks else {
-            return crate::health::check(report, &self.fluid, self.solver.as_ref(), &self.limits);
+            return crate::health::check(report, &self.fluid, solver, limits);
         };
         let mine = view.owned(&self.fluid, owned);
-        let found = crate::health::check(report, mine, self.solver.as_ref(), &self.limits);
-        let [any] = view.any([found.is_some()]);
-        if !any {
+        let found = crate::health::check(report, mine, solver, limits).is_some();
+        let [any] = view.any([found]);
+        if !any && !gather {
             return None;
         }
-        view.gather(&self.last_good, last_good_owned);
-        self.last_good.clone_from(&view.whole);
-        self.take_whole();
-        crate::health::check(report, &self.fluid, self.solver.as_ref(), &self.limits).or(found)
+        view.gather(&self.fluid, owned);
+        let diagnosis = crate::health::check(report, &view.whole, solver, limits);
+        if diagnosis.is_some() {
+            self.fluid.clone_from(&view.whole);
+            if let Some(owned) = last_good_owned {
+                view.gather(&self.last_good, owned);
+                self.last_good.clone_from(&view.whole);
+            }
+        }
+        diagnosis
     }
 }
