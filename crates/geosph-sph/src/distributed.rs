@@ -161,21 +161,20 @@ impl<const D: usize> Distribution<D> {
         result
     }
 
-    /// The largest |x − x_set-up|² of an owned particle over the ranks (collective).
+    /// The largest |x − x_set-up|² of a particle this rank owns.
     fn moved2(&self, position: &[Vector<D>]) -> Real {
         let domain = self.cells.domain();
-        let local = position[..self.owned]
+        position[..self.owned]
             .iter()
             .zip(&self.setup_position)
             .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
-            .fold(0.0, Real::max);
-        self.max(local)
+            .fold(0.0, Real::max)
     }
 
     /// Whether the next step should start with a set-up: before the first, or once some
     /// particle has moved a quarter of the skin since the last (collective).
     pub fn due(&self, position: &[Vector<D>]) -> bool {
-        self.partition.is_none() || 16.0 * self.moved2(position) > self.skin * self.skin
+        self.partition.is_none() || 16.0 * self.max(self.moved2(position)) > self.skin * self.skin
     }
 
     /// The outcome of a list update that every rank agrees on (collective): this rank's
@@ -189,13 +188,7 @@ impl<const D: usize> Distribution<D> {
         result: Result<bool, SearchError>,
         position: &[Vector<D>],
     ) -> Result<bool, SearchError> {
-        let domain = self.cells.domain();
-        let moved2 = position[..self.owned]
-            .iter()
-            .zip(&self.setup_position)
-            .map(|(x, x0)| domain.displacement(x, x0).norm_squared())
-            .fold(0.0, Real::max);
-        let mut shared = [moved2, Real::from(u8::from(result.is_err()))];
+        let mut shared = [self.moved2(position), Real::from(u8::from(result.is_err()))];
         self.max_each(&mut shared);
         let [moved2, failed] = shared;
         if failed > 0.0 {
