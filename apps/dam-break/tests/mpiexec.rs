@@ -1,6 +1,7 @@
 //! `mpiexec -n 2` and `-n 4 dam-break` (feature `mpi`): the run distributed over the ranks
 //! writes the diagnostics and front of the same run in one process, within round-off, once
-//! (rank 0), and reports each rank's load; what does not run distributed yet is an error.
+//! (rank 0), its frames in pieces (one per rank, under a `.pvtu`), and reports each rank's
+//! load; what does not run distributed yet is an error.
 //! Needs an MPI installation (`.ci/run` installs MPICH).
 #![cfg(feature = "mpi")]
 
@@ -72,7 +73,14 @@ fn distributed_runs_write_what_one_process_writes() {
                 }
             }
         }
-        assert!(out.join("dam-break-2d.pvd").exists());
+        // The frames in pieces, one per rank, under one `.pvtu` each (.ci/run reads them with
+        // VTK and compares the last with one process's: compare_frames.py).
+        let pvd = std::fs::read_to_string(out.join("dam-break-2d.pvd")).unwrap();
+        assert_eq!(pvd.matches(".pvtu").count(), 7, "{pvd}");
+        for rank in 0..ranks {
+            let piece = format!("frames/dam-break-2d_000006_rank{rank:04}.vtu");
+            assert!(out.join(&piece).is_file(), "{piece}");
+        }
     }
 }
 

@@ -11,6 +11,8 @@
 //!   sets) as a compressed binary VTK XML UnstructuredGrid (`.vtu`) of vertex cells.
 //! - [`vtp`]: a triangle surface (a free surface, a mesh) as a compressed binary VTK XML
 //!   PolyData (`.vtp`).
+//! - [`pvtu`]: [`write_pvtu_sets`], the parallel file (`.pvtu`) of a frame written in pieces,
+//!   one `.vtu` per rank of a distributed run, which ParaView opens as one data set.
 //! - [`pvd`]: [`PvdCollection`], the VTK Collection (`.pvd`) that lists the `.vtu` frames of a
 //!   run with their times, rewritten after every frame and reopened on restart.
 //! - [`csv`]: [`CsvSeries`], a time-series CSV writer flushed row by row, and
@@ -51,6 +53,7 @@ pub mod atomic;
 pub mod csv;
 pub mod plot;
 pub mod pvd;
+pub mod pvtu;
 pub mod reference;
 pub mod vtp;
 pub mod vtu;
@@ -62,6 +65,7 @@ pub use csv::{CsvSeries, write_csv_atomically};
 pub use error::Error;
 pub use plot::{Axes, PlotSpec, Series, line_plot_png};
 pub use pvd::{PvdCollection, PvdEntry};
+pub use pvtu::write_pvtu_sets;
 pub use reference::{ReferenceCurve, interpolate};
 pub use vtp::write_vtp_triangles;
 pub use vtu::{Field, FieldData, Frame, write_vtu, write_vtu_sets};

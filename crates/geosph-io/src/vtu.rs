@@ -79,6 +79,14 @@ impl<const D: usize> FieldData<'_, D> {
         }
     }
 
+    /// The VTK array type the field is written as.
+    pub(crate) fn vtk_type(&self) -> &'static str {
+        match self {
+            Self::Integer(_) => "UInt32",
+            _ => "Float64",
+        }
+    }
+
     /// Whether `self` and `other` are the same field type (and so can share one array).
     fn same_type(&self, other: &Self) -> bool {
         std::mem::discriminant(self) == std::mem::discriminant(other)
@@ -272,7 +280,7 @@ pub(crate) fn write_xml(
 
 /// Checks every set's field lengths and names, and returns the union of fields by name: the
 /// first occurrence of each name, in order of appearance.
-fn union_of_fields<'s, 'a, const D: usize>(
+pub(crate) fn union_of_fields<'s, 'a, const D: usize>(
     sets: &'s [Frame<'a, D>],
     with_kind: bool,
 ) -> Result<Vec<(&'a str, &'s FieldData<'a, D>)>, Error> {

@@ -7,7 +7,9 @@ For every `.vtu` under FOLDER: vtkXMLUnstructuredGridReader must read it without
 as many points as the file declares, one vertex cell per point, and every point array with one
 tuple per point and 1, 3 or 9 components. For every `.vtp` (surfaces): vtkXMLPolyDataReader
 must read it without errors, with the declared points and triangles only, and the surface must
-be watertight (vtkFeatureEdges finds no boundary and no non-manifold edge). For every `.pvd`: VTK's vtkXMLDataParser and Python's
+be watertight (vtkFeatureEdges finds no boundary and no non-manifold edge). For every `.pvtu`
+(a frame in pieces, one per rank): vtkXMLPUnstructuredGridReader must read it without errors,
+with as many points as its pieces declare together and the arrays it declares. For every `.pvd`: VTK's vtkXMLDataParser and Python's
 xml.etree must parse it, it must be a `Collection` whose DataSets have numeric, non-decreasing
 timesteps and existing files. Prints one line per file; exits with status 1 on any failure.
 
@@ -123,6 +125,40 @@ def check_vtp(path):
     return problems
 
 
+def check_pvtu(path):
+    """Returns a list of problems with the parallel .pvtu at `path` (empty when fine)."""
+    root = ElementTree.parse(path).getroot()
+    if root.tag != "VTKFile" or root.get("type") != "PUnstructuredGrid":
+        return [f"root is <{root.tag} type={root.get('type')!r}>, not a PUnstructuredGrid"]
+    sources = [piece.get("Source") for piece in root.iter("Piece")]
+    declared_arrays = len(list(root.iter("PPointData"))[0].findall("PDataArray"))
+    declared = 0
+    for source in sources:
+        if source is None or not (path.parent / source).is_file():
+            return [f"piece {source!r} does not exist"]
+        declared += declared_layout(path.parent / source)[0]
+    reader = vtk.vtkXMLPUnstructuredGridReader()
+    errors = catch_errors(reader)
+    reader.SetFileName(str(path))
+    reader.Update()
+    problems = [f"VTK error: {m.strip()}" for m in errors]
+    grid = reader.GetOutput()
+    points = grid.GetNumberOfPoints()
+    if points != declared:
+        problems.append(f"{points} points read, {declared} declared by its pieces")
+    if grid.GetNumberOfCells() != points:
+        problems.append(f"{grid.GetNumberOfCells()} cells for {points} points")
+    data = grid.GetPointData()
+    if data.GetNumberOfArrays() != declared_arrays:
+        problems.append(f"{data.GetNumberOfArrays()} point arrays read, {declared_arrays} declared")
+    for i in range(data.GetNumberOfArrays()):
+        array = data.GetArray(i)
+        if array.GetNumberOfTuples() != points:
+            problems.append(f"array {array.GetName()}: {array.GetNumberOfTuples()} tuples")
+    print(f"  {path.name}: {len(sources)} pieces, {points} points, {data.GetNumberOfArrays()} arrays")
+    return problems
+
+
 def check_pvd(path):
     """Returns a list of problems with the .pvd at `path` (empty when fine)."""
     problems = []
@@ -154,14 +190,19 @@ def main():
         sys.exit(__doc__)
     folder = Path(sys.argv[1])
     files = sorted(folder.rglob("*.vtu")) + sorted(folder.rglob("*.vtp"))
-    files += sorted(folder.rglob("*.pvd"))
+    files += sorted(folder.rglob("*.pvtu")) + sorted(folder.rglob("*.pvd"))
     files = [f for f in files if not f.name.startswith(".")]  # skip temporaries of a live run
     if not files:
-        sys.exit(f"no .vtu, .vtp or .pvd files under {folder}")
+        sys.exit(f"no .vtu, .vtp, .pvtu or .pvd files under {folder}")
     print(f"VTK {vtk.vtkVersion.GetVTKVersion()}, {len(files)} files under {folder}")
     failures = 0
     for path in files:
-        check = {".vtu": check_vtu, ".vtp": check_vtp, ".pvd": check_pvd}[path.suffix]
+        check = {
+            ".vtu": check_vtu,
+            ".vtp": check_vtp,
+            ".pvtu": check_pvtu,
+            ".pvd": check_pvd,
+        }[path.suffix]
         problems = check(path)
         for problem in problems:
             print(f"FAIL {path}: {problem}")

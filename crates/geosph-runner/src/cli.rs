@@ -47,11 +47,14 @@ impl RunArgs {
 
     /// The run options into `out`, with Ctrl-C installed to stop the run at a checkpoint. Built
     /// with the feature `mpi` and started by `mpiexec` on several ranks, the run is
-    /// distributed over them, and only rank 0 writes `out` and shows the progress.
+    /// distributed over them: each rank writes its pieces of the frames into `out`, rank 0
+    /// alone the rest, and only it shows the progress.
     pub fn options(&self, out: PathBuf) -> Result<RunOptions, String> {
         let transport = ranks()?;
         let root = transport.as_ref().is_none_or(|ranks| ranks.0.rank() == 0);
+        let several = transport.as_ref().is_some_and(|ranks| ranks.0.size() > 1);
         Ok(RunOptions {
+            pieces_dir: several.then(|| out.clone()),
             out_dir: root.then_some(out),
             vtk: self.no_vtk.then_some(false),
             threads: self.threads,

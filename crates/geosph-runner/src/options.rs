@@ -15,6 +15,10 @@ use crate::error::RunError;
 pub struct RunOptions {
     /// Output folder; `None` writes nothing.
     pub out_dir: Option<PathBuf>,
+    /// The output folder on every rank of a distributed run (rank 0's `out_dir`, which the
+    /// other ranks do not have): each rank writes its pieces of the frames and checkpoints
+    /// into it. `None` on one process.
+    pub pieces_dir: Option<PathBuf>,
     /// Override the scene's VTU output switch.
     pub vtk: Option<bool>,
     /// Worker threads (default: rayon's, one per core).

@@ -1,10 +1,12 @@
 //! The output folder of a run.
 
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use geosph_core::{Particles, Real, Vector};
 use geosph_io::{
-    CsvSeries, Error, Field, Frame, PvdCollection, write_vtp_triangles, write_vtu_sets,
+    CsvSeries, Error, Field, Frame, PvdCollection, write_pvtu_sets, write_vtp_triangles,
+    write_vtu_sets,
 };
 use geosph_sph::Solver;
 use geosph_surface::SurfaceParameters;
@@ -232,24 +234,61 @@ impl RunOutput {
         let file = format!("frames/{}_{:06}.vtu", self.name, self.frames);
         write_particles(&self.dir.join(&file), fluid, solver)?;
         pvd.add(time, &file)?;
-        if let Some((parameters, series)) = &mut self.surfaces {
-            let file = format!("frames/{}-surface_{:06}.vtp", self.name, self.frames);
-            let position: Vec<Vector<3>> = fluid
-                .position
-                .iter()
-                .map(|x| Vector::<3>::from_fn(|k, _| if k < D { x[k] } else { 0.0 }))
-                .collect();
-            let path = self.dir.join(&file);
-            let surface =
-                geosph_surface::reconstruct(&position, parameters).map_err(|error| Error::Io {
-                    path: path.clone(),
-                    source: std::io::Error::other(error.to_string()),
-                })?;
-            write_vtp_triangles(&path, &surface.vertices, &surface.triangles)?;
-            series.add(time, &file)?;
+        self.write_surface(time, fluid)?;
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// Lists the frame at `time` that `ranks` ranks wrote in pieces ([`piece_file`]) as the
+    /// next one: writes its `.pvtu`, for particle sets with the fields of `sets` (any rank's),
+    /// adds it to the `.pvd`, and draws the free surface of `whole` (every particle) when
+    /// surfaces are on. Nothing when VTK output is off.
+    pub(crate) fn add_pieces<const D: usize>(
+        &mut self,
+        time: Real,
+        sets: &[Frame<'_, D>],
+        ranks: usize,
+        whole: Option<&Particles<D>>,
+    ) -> Result<(), Error> {
+        let Some(pvd) = &mut self.pvd else {
+            return Ok(());
+        };
+        let pieces: Vec<String> = (0..ranks)
+            .map(|rank| piece_file(&self.name, self.frames, rank))
+            .collect();
+        let file = format!("frames/{}_{:06}.pvtu", self.name, self.frames);
+        write_pvtu_sets(self.dir.join(&file), sets, &pieces)?;
+        pvd.add(time, &file)?;
+        if let Some(whole) = whole {
+            self.write_surface(time, whole)?;
         }
         self.frames += 1;
         Ok(())
+    }
+
+    /// The free surface of `fluid` at `time` as the next surface frame, when surfaces are on.
+    fn write_surface<const D: usize>(
+        &mut self,
+        time: Real,
+        fluid: &Particles<D>,
+    ) -> Result<(), Error> {
+        let Some((parameters, series)) = &mut self.surfaces else {
+            return Ok(());
+        };
+        let file = format!("frames/{}-surface_{:06}.vtp", self.name, self.frames);
+        let position: Vec<Vector<3>> = fluid
+            .position
+            .iter()
+            .map(|x| Vector::<3>::from_fn(|k, _| if k < D { x[k] } else { 0.0 }))
+            .collect();
+        let path = self.dir.join(&file);
+        let surface =
+            geosph_surface::reconstruct(&position, parameters).map_err(|error| Error::Io {
+                path: path.clone(),
+                source: std::io::Error::other(error.to_string()),
+            })?;
+        write_vtp_triangles(&path, &surface.vertices, &surface.triangles)?;
+        series.add(time, &file)
     }
 
     /// Writes the particles and the walls of `solver` to `file` in the folder, outside the
@@ -270,45 +309,78 @@ impl RunOutput {
 /// Writes the particles (set 0), with their fields and the quantities `solver` derives from
 /// them ([`Solver::output_scalars`]), and the solver's walls (set 1) to the VTU file `path`:
 /// the frames of a run, and any state an application wants to show the same way.
+///
+/// (A distributed run writes each frame in pieces, one per rank, listed by a `.pvtu`:
+/// [`piece_file`].)
 pub fn write_particles<const D: usize>(
     path: &Path,
     fluid: &Particles<D>,
     solver: &dyn Solver<D>,
 ) -> Result<(), Error> {
+    with_frame_sets(fluid, 0..fluid.len(), solver, &|_| true, |sets| {
+        write_vtu_sets(path, sets)
+    })
+}
+
+/// Calls `write` with the particle sets of a frame: the particles `fluid[particles]` (set 0)
+/// with their fields and what `solver` derives from them, and the walls of `solver` for
+/// which `wall` holds (set 1); all of them in one process, one rank's piece in a distributed
+/// run.
+pub(crate) fn with_frame_sets<const D: usize>(
+    fluid: &Particles<D>,
+    particles: Range<usize>,
+    solver: &dyn Solver<D>,
+    wall: &dyn Fn(usize) -> bool,
+    write: impl FnOnce(&[Frame<'_, D>]) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let range = particles;
     let walls = solver.walls();
-    let mut fluid_frame = Frame::new(&fluid.position)
-        .with(Field::vector("velocity", &fluid.velocity))
-        .with(Field::scalar("density", &fluid.density))
-        .with(Field::integer("id", &fluid.id));
+    let chosen: Vec<usize> = (0..walls.len()).filter(|&i| wall(i)).collect();
+    let pick = |values: &[Real]| -> Vec<Real> { chosen.iter().map(|&i| values[i]).collect() };
+    let wall_position: Vec<Vector<D>> = chosen.iter().map(|&i| walls.position[i]).collect();
+    let wall_velocity: Vec<Vector<D>> = chosen.iter().map(|&i| walls.velocity[i]).collect();
+    let (wall_density, wall_pressure) = (pick(&walls.density), pick(&walls.pressure));
+    let mut fluid_frame = Frame::new(&fluid.position[range.clone()])
+        .with(Field::vector("velocity", &fluid.velocity[range.clone()]))
+        .with(Field::scalar("density", &fluid.density[range.clone()]))
+        .with(Field::integer("id", &fluid.id[range.clone()]));
     if let Some(pressure) = &fluid.pressure {
-        fluid_frame = fluid_frame.with(Field::scalar("pressure", pressure));
+        fluid_frame = fluid_frame.with(Field::scalar("pressure", &pressure[range.clone()]));
     }
     // The particles' stress, then what the solver derives from it, then the other soil fields.
     let derived = solver.output_scalars(fluid);
     let soil = fluid.soil.as_ref().map(|fields| {
-        let displacement: Vec<Vector<D>> = fields
-            .displacement
+        let displacement: Vec<Vector<D>> = fields.displacement[range.clone()]
             .iter()
             .map(|u| Vector::<D>::from_fn(|k, _| u[k]))
             .collect();
         (fields, displacement)
     });
     if let Some((fields, _)) = &soil {
-        fluid_frame = fluid_frame.with(Field::tensor("stress", &fields.stress));
+        fluid_frame = fluid_frame.with(Field::tensor("stress", &fields.stress[range.clone()]));
     }
     for (name, values) in &derived {
-        fluid_frame = fluid_frame.with(Field::scalar(name, values));
+        fluid_frame = fluid_frame.with(Field::scalar(name, &values[range.clone()]));
     }
     if let Some((fields, displacement)) = &soil {
         fluid_frame = fluid_frame
-            .with(Field::scalar("plastic_strain", &fields.plastic_strain))
+            .with(Field::scalar(
+                "plastic_strain",
+                &fields.plastic_strain[range.clone()],
+            ))
             .with(Field::vector("displacement", displacement));
     }
-    let wall_frame = Frame::new(&walls.position)
-        .with(Field::vector("velocity", &walls.velocity))
-        .with(Field::scalar("density", &walls.density))
-        .with(Field::scalar("pressure", &walls.pressure));
-    write_vtu_sets(path, &[fluid_frame, wall_frame])
+    let wall_frame = Frame::new(&wall_position)
+        .with(Field::vector("velocity", &wall_velocity))
+        .with(Field::scalar("density", &wall_density))
+        .with(Field::scalar("pressure", &wall_pressure));
+    write(&[fluid_frame, wall_frame])
+}
+
+/// The file of rank `rank`'s piece of frame `frame` of the run `name` in a distributed run,
+/// in the folder `frames` (beside the frame's `.pvtu`, which lists the pieces).
+pub fn piece_file(name: &str, frame: usize, rank: usize) -> String {
+    format!("{name}_{frame:06}_rank{rank:04}.vtu")
 }
 
 impl RunOutput {

@@ -23,6 +23,7 @@ use crate::output::RunOutput;
 use crate::probes::PressureProbes;
 use crate::summary::Summary;
 
+mod frames;
 mod ranks;
 mod start;
 use ranks::RankView;
@@ -229,14 +230,12 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             report.density_error_max = report.density_error_max.max(error);
         }
         self.sample(0.0, 0, &report)?;
-        if let Some(output) = &mut self.output {
-            output.write_frame(0.0, &self.fluid, self.solver.as_ref())?;
-        }
+        self.write_frame(0.0)?;
         self.state = Progress {
             outputs: 1,
             samples: 1,
             rows: 1,
-            frames: self.output.as_ref().map_or(0, |o| o.frames() as u64),
+            frames: self.state.frames,
             stage,
             ..Progress::default()
         };
@@ -282,7 +281,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         let output_due = time >= self.next_output - self.tolerance;
         let diagnosis = match escape {
             Removal::TooMany(diagnosis) => Some(diagnosis),
-            _ => self.health(&report, last_good_owned, sample_due || output_due),
+            _ => self.health(&report, last_good_owned, sample_due),
         };
         if let Some(diagnosis) = diagnosis {
             return Err(self.blow_up(diagnosis, steps, (time, last_good_time)));
@@ -303,11 +302,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             self.next_sample = self.state.samples as Real * self.scene.output.sample_interval;
         }
         if output_due {
-            if let Some(output) = &mut self.output {
-                let fluid = self.ranks.as_ref().map_or(&self.fluid, |view| &view.whole);
-                output.write_frame(time, fluid, self.solver.as_ref())?;
-                self.state.frames = output.frames() as u64;
-            }
+            self.write_frame(time)?;
             self.state.outputs += 1;
             self.next_output = self.state.outputs as Real * self.scene.output.interval;
         }

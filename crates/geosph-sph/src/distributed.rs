@@ -123,6 +123,11 @@ impl<const D: usize> Distribution<D> {
         self.owned
     }
 
+    /// The rank that owns the cell of `x` (`None` before the cells are first cut).
+    pub fn owner(&self, x: &Vector<D>) -> Option<usize> {
+        self.partition.as_ref().map(|partition| partition.owner(x))
+    }
+
     /// What the exchanges did so far.
     pub fn counts(&self) -> ExchangeCounts {
         ExchangeCounts {

@@ -4,14 +4,16 @@
 //! the ranks, in id order, at the times it is needed; the health check runs on each rank's
 //! own particles every step, and the ranks agree on its outcome and on an interrupt.
 //!
-//! Gathering puts every particle on every rank at each sample and frame: simple, and exact
-//! (every rank's observer sees the same particles, so all keep the same state), but its memory
-//! is that of the whole run on each rank. Writing per-rank pieces (`.pvtu`) and reducing the
-//! samples instead is the next step (docs/parallel.md).
+//! Gathering puts every particle on every rank at each sample: simple, and exact (every rank's
+//! observer sees the same particles, so all keep the same state), but its memory is that of
+//! the whole run on each rank. The frames are written in pieces instead (`frames.rs`);
+//! reducing the samples over the ranks is the next step (docs/parallel.md).
 
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use geosph_core::{Particles, Real};
+use geosph_scene::Scene;
 use geosph_sph::{Solver, SolverError, Transport};
 
 use crate::options::RunOptions;
@@ -59,6 +61,23 @@ impl<const D: usize> RankView<D> {
     /// Whether this is rank 0, the one that writes the output and reports.
     pub(super) fn is_root(&self) -> bool {
         self.transport.rank() == 0
+    }
+
+    /// This rank.
+    pub(super) fn rank(&self) -> usize {
+        self.transport.rank()
+    }
+
+    /// Ranks in all.
+    pub(super) fn size(&self) -> usize {
+        self.transport.size()
+    }
+
+    /// The folder every rank writes its pieces of the frames into, when VTK output is on.
+    pub(super) fn frames_folder(&self, options: &RunOptions, scene: &Scene) -> Option<PathBuf> {
+        let vtk = options.vtk.unwrap_or(scene.output.vtk);
+        let dir = options.pieces_dir.as_ref().filter(|_| vtk)?;
+        Some(dir.join("frames"))
     }
 
     /// Gathers every rank's owned particles of `local` (the first `owned`) into
@@ -154,7 +173,7 @@ impl<const D: usize> super::RunLoop<'_, D> {
 
     /// The health check after a step (`health::check`). In a distributed run each rank checks
     /// its own particles and the ranks agree whether one found trouble; then, and whenever
-    /// `gather` (a sample or frame is due, so that the energy budget, a sum over every
+    /// `gather` (a sample is due, so that the energy budget, a sum over every
     /// particle, is checked at least then), every particle is gathered and checked as one
     /// process would, with the same outcome on every rank. On trouble the failed and last good
     /// states of every particle (the last good one's owned particles were the first
