@@ -161,6 +161,10 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         self.system.lists.distribution()
     }
 
+    fn distribution_mut(&mut self) -> Option<&mut Distribution<D>> {
+        self.system.lists.distribution_mut()
+    }
+
     fn sound_speed(&self) -> Real {
         self.system.eos.sound_speed
     }
@@ -187,21 +191,30 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         Ok(())
     }
 
+    /// The step count, the integrator's cached rates and the positions of the neighbour
+    /// lists; in a distributed run, the rates of the particles this rank owns and the cut of
+    /// the cells, without the lists (the next step starts with a set-up, which rebuilds them).
     fn save_state(&self) -> SolverState {
         let mut state = SolverState::new(self.name(), self.steps);
-        let (arrays, rates) = (&mut state.arrays, self.integrator.rates());
-        arrays.push(
+        let rates = self.integrator.rates();
+        let lists = &self.system.lists;
+        let owned = lists.owned(rates.density_rate.len());
+        state.arrays.push(
             "rates_current",
             &[Real::from(self.integrator.rates_current())],
         );
-        arrays.push_matrices("acceleration", &rates.acceleration);
-        arrays.push("density_rate", &rates.density_rate);
-        arrays.push_matrices("position_correction", &rates.position_correction);
-        if let Some(listed) = self.system.lists.listed_positions() {
-            arrays.push_matrices("listed_position", listed);
-        }
-        if let Some(listed) = self.system.lists.listed_wall_positions() {
-            arrays.push_matrices("listed_wall_position", listed);
+        let per_particle = &mut state.per_particle;
+        per_particle.push_matrices("acceleration", &rates.acceleration[..owned]);
+        per_particle.push("density_rate", &rates.density_rate[..owned]);
+        per_particle.push_matrices("position_correction", &rates.position_correction[..owned]);
+        state.partition = lists.partition_state();
+        if state.partition.is_none() {
+            if let Some(listed) = lists.listed_positions() {
+                per_particle.push_matrices("listed_position", listed);
+            }
+            if let Some(listed) = lists.listed_wall_positions() {
+                state.arrays.push_matrices("listed_wall_position", listed);
+            }
         }
         state.wall_motion = self.motion.as_ref().map(|motion| motion.save_state());
         state
@@ -214,31 +227,27 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
     ) -> Result<(), SolverError> {
         self.system.lists.single_process("a restart")?;
         let steps = state.steps_of(self.name())?;
-        let arrays = &mut state.arrays;
         let n = fluid.len();
-        let current = arrays.take_value("rates_current")? != 0.0;
+        let current = state.arrays.take_value("rates_current")? != 0.0;
+        let per_particle = &mut state.per_particle;
         let rates = Rates {
-            acceleration: arrays.take_matrices("acceleration", n)?,
-            density_rate: arrays
-                .take_matrices::<1, 1>("density_rate", n)?
-                .iter()
-                .map(|m| m[(0, 0)])
-                .collect(),
-            position_correction: arrays.take_matrices("position_correction", n)?,
+            acceleration: per_particle.take_matrices("acceleration", n)?,
+            density_rate: per_particle.take_values("density_rate", n)?,
+            position_correction: per_particle.take_matrices("position_correction", n)?,
         };
         self.integrator.restore_rates(rates, current);
         restore_wall_motion(&mut self.motion, &state.wall_motion, &mut self.system.walls)?;
-        let arrays = &mut state.arrays;
-        if arrays.contains("listed_position") {
-            let listed = arrays.take_matrices("listed_position", n)?;
-            let walls = if arrays.contains("listed_wall_position") {
+        if state.per_particle.contains("listed_position") {
+            let listed = state.per_particle.take_matrices("listed_position", n)?;
+            let walls = if state.arrays.contains("listed_wall_position") {
                 let count = self.system.walls.len();
-                arrays.take_matrices("listed_wall_position", count)?
+                state.arrays.take_matrices("listed_wall_position", count)?
             } else {
                 self.system.walls.position.clone()
             };
             self.system.lists.rebuild_at(listed, &walls)?;
         }
+        self.system.lists.restore_partition(state.partition);
         self.steps = steps;
         Ok(())
     }

@@ -50,6 +50,9 @@ pub enum PartitionError {
         /// The interaction radius.
         radius: Real,
     },
+    /// Saved cuts that decrease: not a partition's.
+    #[error("partition: saved cuts must not decrease")]
+    Cuts,
 }
 
 /// The domain cut into cells at least one interaction radius wide, with the Morton key of
@@ -255,6 +258,32 @@ impl<const D: usize> Partition<D> {
             .map(|(i, x)| (cells.key(x), work.map_or(1.0, |work| work[i])))
             .collect();
         Self::balanced(cells, ranks, cell_work)
+    }
+
+    /// The partition of `cells` whose rank r > 0 owns the keys from `cuts[r − 1]` on, as
+    /// [`Partition::cuts`] gave them (a partition saved with a run and restored).
+    ///
+    /// # Errors
+    /// [`PartitionError::TooManyRanks`] for more ranks than cells; [`PartitionError::Cuts`]
+    /// when `cuts` decrease.
+    pub fn from_cuts(cells: Cells<D>, cuts: Vec<u64>) -> Result<Self, PartitionError> {
+        let ranks = cuts.len() + 1;
+        if ranks > cells.len() {
+            return Err(PartitionError::TooManyRanks {
+                ranks,
+                cells: cells.len(),
+                counts: cells.counts.to_vec(),
+            });
+        }
+        if cuts.windows(2).any(|pair| pair[1] < pair[0]) {
+            return Err(PartitionError::Cuts);
+        }
+        Ok(Self { cells, cuts })
+    }
+
+    /// The first key of each rank after the first.
+    pub fn cuts(&self) -> &[u64] {
+        &self.cuts
     }
 
     /// The cells.

@@ -10,6 +10,8 @@
 //! stable serde format; reals keep their bits). It is written atomically (temporary file,
 //! `sync_all`, rename), so a killed run leaves the previous checkpoint or the new one, never a
 //! mixture. Reading checks the header, the length and the checksum, then the scene.
+//!
+//! A distributed run writes one piece per rank and a manifest that lists them (`pieces`).
 
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -20,14 +22,18 @@ use geosph_scene::Scene;
 use geosph_sph::{SolverState, StateArrays, StateError};
 use serde::{Deserialize, Serialize};
 
+mod pieces;
+pub(crate) use pieces::{piece_file, remove_stale_pieces};
+
 /// Name of the checkpoint file in the output folder.
 pub const FILE_NAME: &str = "checkpoint.bin";
 
 /// Version of the file layout; a checkpoint of another version is refused. Version 2 added
 /// the particles that left the domain to [`Progress`], version 3 the report of the solver's
 /// stage before t = 0, version 4 the wall contacts, version 5 the state of moving walls (rigid
-/// bodies) in the solver's state.
-pub const FORMAT_VERSION: u32 = 5;
+/// bodies) in the solver's state, version 6 the pieces of a distributed run and the solver's
+/// per-particle arrays apart from its others.
+pub const FORMAT_VERSION: u32 = 6;
 
 const MAGIC: &[u8; 8] = b"GEOSPHCP";
 const HEADER_LEN: usize = 8 + 4 + 8 + 4;
@@ -212,6 +218,12 @@ pub struct Checkpoint {
     pub solver: SolverState,
     /// The observer's accumulated state ([`crate::Observer::save_state`]).
     pub observer: Vec<Real>,
+    /// A distributed run's checkpoint is a manifest (this, without particles) and one piece
+    /// per rank (a checkpoint of the particles that rank owned and their solver state), whose
+    /// files, relative to the manifest's folder, this lists in rank order; empty for one
+    /// process's checkpoint, which holds every particle ([`Checkpoint::read`] puts the pieces
+    /// together).
+    pub pieces: Vec<String>,
 }
 
 /// Why a checkpoint cannot be used; one line, naming the file.
@@ -279,8 +291,18 @@ impl Checkpoint {
     }
 
     /// Reads the checkpoint at `path` and checks that it was written for `scene` in `D`
-    /// dimensions.
+    /// dimensions; a distributed run's manifest is read with its pieces, put together as one
+    /// process's checkpoint of every particle.
     pub fn read<const D: usize>(path: &Path, scene: &Scene) -> Result<Self, CheckpointError> {
+        let checkpoint = Self::read_file::<D>(path, scene)?;
+        match checkpoint.pieces.is_empty() {
+            true => Ok(checkpoint),
+            false => checkpoint.merge_pieces::<D>(path, scene),
+        }
+    }
+
+    /// Reads the one file `path` (a whole checkpoint, a manifest or a piece) and checks it.
+    fn read_file<const D: usize>(path: &Path, scene: &Scene) -> Result<Self, CheckpointError> {
         let damaged = |reason: String| CheckpointError::Damaged {
             path: path.to_path_buf(),
             reason,

@@ -2,7 +2,6 @@
 //! the [`Summary`].
 
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use geosph_core::{Particles, Real};
@@ -10,7 +9,7 @@ use geosph_scene::Scene;
 use geosph_sph::{Solver, StepReport};
 use indicatif::ProgressBar;
 
-use crate::checkpoint::{self, Checkpoint, CheckpointClock, ParticleState, Progress};
+use crate::checkpoint::{self, CheckpointClock, Progress};
 use crate::error::RunError;
 use crate::escape::{Escapes, Removal};
 use crate::health::report::{BlowUpFiles, BlowUpReport};
@@ -23,6 +22,7 @@ use crate::output::RunOutput;
 use crate::probes::PressureProbes;
 use crate::summary::Summary;
 
+mod checkpoints;
 mod frames;
 mod ranks;
 mod start;
@@ -378,61 +378,6 @@ impl<'a, const D: usize> RunLoop<'a, D> {
             output.sample(&self.row)?;
         }
         Ok(())
-    }
-
-    /// Writes a checkpoint when one is due or the run was interrupted; after an interrupt,
-    /// also the current frame, and ends the run.
-    fn checkpoint_or_interrupt(&mut self, time: Real, steps: usize) -> Result<(), RunError> {
-        let mut interrupted = self
-            .options
-            .interrupt
-            .as_ref()
-            .is_some_and(|flag| flag.load(Ordering::Relaxed));
-        if let Some(view) = &self.ranks {
-            [interrupted] = view.any([interrupted]);
-            if interrupted {
-                self.take_whole();
-            }
-        }
-        let finished = time >= self.scene.end_time - self.tolerance;
-        let can_save = self.checkpoint_path.is_some() && self.output.is_some();
-        if can_save && (interrupted || (!finished && self.checkpoints.due(time))) {
-            if let Some(output) = &mut self.output {
-                output.flush()?;
-            }
-            if let Some(path) = &self.checkpoint_path {
-                self.checkpoint().write(path)?;
-            }
-        }
-        if !interrupted {
-            return Ok(());
-        }
-        self.bar.finish_and_clear();
-        let frame = match &self.output {
-            Some(output) => {
-                Some(output.write_snapshot("interrupted.vtu", &self.fluid, self.solver.as_ref())?)
-            }
-            None => None,
-        };
-        Err(RunError::Interrupted {
-            time,
-            step: steps,
-            checkpoint: self.checkpoint_path.clone().filter(|_| frame.is_some()),
-            frame,
-        })
-    }
-
-    /// The complete state of the run now.
-    fn checkpoint(&self) -> Checkpoint {
-        Checkpoint {
-            scene: self.scene.name.clone(),
-            scene_hash: checkpoint::scene_hash(self.scene),
-            dimension: D as u32,
-            progress: self.state.clone(),
-            particles: ParticleState::save(&self.fluid),
-            solver: self.solver.save_state(),
-            observer: self.observer.save_state(),
-        }
     }
 
     /// Ends the run on a blow-up found at step `step`: with an output folder, saves the

@@ -27,6 +27,8 @@ use geosph_partition::{
     Cells, ExchangePlan, Partition, PartitionError, Transport, halo_plan, imbalance, migration_plan,
 };
 
+use crate::state::PartitionState;
+
 /// Depth of the halo in cells: neighbours of neighbours are local.
 pub const HALO_DEPTH: u32 = 2;
 
@@ -68,6 +70,12 @@ pub struct Distribution<const D: usize> {
     /// The imbalance the last cut reached (cells are indivisible, so it may exceed
     /// [`REBALANCE_ABOVE`]).
     cut_imbalance: Real,
+    /// Every rank holds every particle (each built the same scene, or read the same
+    /// checkpoint): until the first set-up, which keeps each rank's own without sending.
+    holds_all: bool,
+    /// The next step starts with a set-up that keeps the cut (after a checkpoint, so that a
+    /// restart from it, which starts with one, continues alike; and after a restored cut).
+    set_up_keeping_cut: bool,
     counts: ExchangeCounts,
 }
 
@@ -80,30 +88,45 @@ struct Link {
 impl<const D: usize> Distribution<D> {
     /// The share of this rank of `transport` in a run on `domain` whose lists reach `radius`
     /// (the support plus the skin `skin`, which must be positive, the halo's margin, and
-    /// smaller than `radius`).
+    /// smaller than `radius`). With `saved`, the cut of a checkpoint of a run on as many
+    /// ranks, the first set-up cuts the cells as it did (on another rank count, by the
+    /// particles' count).
     pub fn new(
         transport: Box<dyn Transport>,
         domain: Domain<D>,
         radius: Real,
         skin: Real,
+        saved: Option<PartitionState>,
     ) -> Result<Self, PartitionError> {
         if !(skin > 0.0 && skin < radius) {
             return Err(PartitionError::Skin { skin, radius });
         }
+        let cells = Cells::new(domain, radius)?;
+        let size = transport.size();
+        let saved = saved.filter(|saved| saved.cuts.len() + 1 == size);
+        let (partition, cut_imbalance) = match saved {
+            Some(saved) => (
+                Some(Partition::from_cuts(cells.clone(), saved.cuts)?),
+                saved.imbalance,
+            ),
+            None => (None, 1.0),
+        };
         Ok(Self {
+            set_up_keeping_cut: partition.is_some(),
+            partition,
+            cut_imbalance,
+            holds_all: true,
             rank: transport.rank(),
             size: transport.size(),
             link: Mutex::new(Link {
                 transport,
                 seconds: 0.0,
             }),
-            cells: Cells::new(domain, radius)?,
-            partition: None,
+            cells,
             owned: 0,
             halo: ExchangePlan::default(),
             setup_position: Vec::new(),
             skin,
-            cut_imbalance: 1.0,
             counts: ExchangeCounts::default(),
         })
     }
@@ -126,6 +149,21 @@ impl<const D: usize> Distribution<D> {
     /// The rank that owns the cell of `x` (`None` before the cells are first cut).
     pub fn owner(&self, x: &Vector<D>) -> Option<usize> {
         self.partition.as_ref().map(|partition| partition.owner(x))
+    }
+
+    /// The cut of the cells, to save with the run (`None` before the first set-up).
+    pub fn partition_state(&self) -> Option<PartitionState> {
+        self.partition.as_ref().map(|partition| PartitionState {
+            cuts: partition.cuts().to_vec(),
+            imbalance: self.cut_imbalance,
+        })
+    }
+
+    /// Makes the next step start with a set-up that keeps the cut: what a restart from a
+    /// checkpoint written now does, so that the run and its restart continue alike (every
+    /// rank must call it).
+    pub fn set_up_next_step(&mut self) {
+        self.set_up_keeping_cut = self.partition.is_some();
     }
 
     /// What the exchanges did so far.
@@ -176,10 +214,13 @@ impl<const D: usize> Distribution<D> {
             .fold(0.0, Real::max)
     }
 
-    /// Whether the next step should start with a set-up: before the first, or once some
-    /// particle has moved a quarter of the skin since the last (collective).
+    /// Whether the next step should start with a set-up: before the first, after
+    /// [`Distribution::set_up_next_step`], or once some particle has moved a quarter of the
+    /// skin since the last (collective).
     pub fn due(&self, position: &[Vector<D>]) -> bool {
-        self.partition.is_none() || 16.0 * self.max(self.moved2(position)) > self.skin * self.skin
+        self.holds_all
+            || self.set_up_keeping_cut
+            || 16.0 * self.max(self.moved2(position)) > self.skin * self.skin
     }
 
     /// The outcome of a list update that every rank agrees on (collective): this rank's
@@ -207,7 +248,8 @@ impl<const D: usize> Distribution<D> {
     }
 
     /// Migrates, sorts and makes the halo anew (collective): drops the halo of `particles`,
-    /// cuts the cells anew if this is the first set-up or the work (`work[i]` of owned
+    /// cuts the cells anew (unless the set-up keeps the cut: [`Distribution::set_up_next_step`],
+    /// a restored cut) if this is the first set-up or the work (`work[i]` of owned
     /// particle i, one each without) is out of balance, sends the owned particles that left
     /// this rank's cells to their owners with their entries of `carried`, sorts the owned
     /// particles along the curve (by cell, then id), and receives the halo (its entries of
@@ -220,11 +262,13 @@ impl<const D: usize> Distribution<D> {
         work: Option<&[Real]>,
     ) -> Result<(), PartitionError> {
         let rank = self.rank();
-        let first = self.partition.is_none();
+        let first = self.holds_all;
         let owned = if first { particles.len() } else { self.owned };
         particles.resize(owned);
         carried.resize(owned);
-        self.balance(particles, work)?;
+        if !self.set_up_keeping_cut {
+            self.balance(particles, work)?;
+        }
         let partition = self.partition.as_ref().expect("balanced");
 
         let (mut plan, keep) = migration_plan(partition, rank, &particles.position);
@@ -276,6 +320,8 @@ impl<const D: usize> Distribution<D> {
         for (k, record) in received.values.chunks_exact(width).enumerate() {
             particles.unpack(self.owned + k, record);
         }
+        self.holds_all = false;
+        self.set_up_keeping_cut = false;
         self.counts.setups += 1;
         self.counts.migrated += arrived;
         self.counts.halo = halo;
@@ -312,7 +358,7 @@ impl<const D: usize> Distribution<D> {
             local.extend_from_slice(&[(key >> 32) as Real, (key & 0xffff_ffff) as Real, work]);
         }
         // At the first set-up every rank holds every particle: its own list is everyone's.
-        let gathered = if self.partition.is_none() {
+        let gathered = if self.holds_all {
             local
         } else {
             self.timed(|transport| transport.all_gather(&local).values)

@@ -52,7 +52,7 @@ pub use shifting::{NoShift, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm, S
 pub use solver::{
     Solver, SolverError, StageReport, StepReport, event_step, max_speed, restore_wall_motion,
 };
-pub use state::{SolverState, StateArrays, StateError};
+pub use state::{PartitionState, SolverState, StateArrays, StateError};
 pub use viscosity::{
     ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Pair, Viscosity, ViscousTerm,
     ViscousVisitor,

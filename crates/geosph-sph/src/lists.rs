@@ -60,6 +60,8 @@ pub struct PairLists<const D: usize> {
     pub reorder_every: usize,
     /// This rank's share of a distributed run, if it is one ([`PairLists::distribute`]).
     distribution: Option<Distribution<D>>,
+    /// The cut of a distributed run's checkpoint, restored, for [`PairLists::distribute`].
+    restored_partition: Option<crate::PartitionState>,
 }
 
 impl<const D: usize> PairLists<D> {
@@ -94,6 +96,7 @@ impl<const D: usize> PairLists<D> {
             builds: 0,
             reorder_every: 100,
             distribution: None,
+            restored_partition: None,
         })
     }
 

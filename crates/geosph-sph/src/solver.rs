@@ -172,6 +172,11 @@ pub trait Solver<const D: usize>: Send {
         )))
     }
 
+    /// This rank's share of a distributed run, to change (`None` on one process).
+    fn distribution_mut(&mut self) -> Option<&mut Distribution<D>> {
+        None
+    }
+
     /// This rank's share of a distributed run (`None` on one process).
     fn distribution(&self) -> Option<&Distribution<D>> {
         None

@@ -61,6 +61,18 @@ impl StateArrays {
         }
     }
 
+    /// Removes and returns the array `name`, checking that it holds `count` values.
+    pub fn take_values(&mut self, name: &str, count: usize) -> Result<Vec<Real>, StateError> {
+        let values = self.take(name)?;
+        match values.len() == count {
+            true => Ok(values),
+            false => Err(StateError(format!(
+                "`{name}` holds {} values, not {count}",
+                values.len()
+            ))),
+        }
+    }
+
     /// Removes and returns the array `name` of `R`×`C` matrices, checking that it holds
     /// `count` of them.
     pub fn take_matrices<const R: usize, const C: usize>(
@@ -82,6 +94,55 @@ impl StateArrays {
     }
 }
 
+impl StateArrays {
+    /// The per-particle arrays of several sets of particles put together: `parts` lists each
+    /// set's particle count and arrays (the same names in each, one entry of a fixed number
+    /// of values per particle), and particle k of the result is particle `order[k]` of the
+    /// sets one after the other.
+    ///
+    /// # Errors
+    /// When a set lacks an array of the first, an array does not hold whole entries, or two
+    /// sets' entries differ in size.
+    ///
+    /// # Panics
+    /// If `order` names a particle beyond the sets'.
+    pub fn merge(parts: &[(usize, &StateArrays)], order: &[usize]) -> Result<Self, StateError> {
+        let Some((_, first)) = parts.first() else {
+            return Ok(Self::default());
+        };
+        let mut merged = Self::default();
+        for (name, _) in &first.arrays {
+            let mut width = None;
+            let mut values: Vec<&[Real]> = Vec::new();
+            for &(count, part) in parts {
+                let array = part
+                    .arrays
+                    .iter()
+                    .find(|(n, _)| n == name)
+                    .map(|(_, v)| v.as_slice())
+                    .ok_or_else(|| StateError(format!("`{name}` is missing from a part")))?;
+                if let Some(w) = array.len().checked_div(count) {
+                    if w == 0 || w * count != array.len() || width.is_some_and(|width| width != w) {
+                        return Err(StateError(format!(
+                            "`{name}` holds {} values for {count} particles",
+                            array.len()
+                        )));
+                    }
+                    width = Some(w);
+                    values.extend(array.chunks_exact(w));
+                }
+            }
+            let width = width.unwrap_or(0);
+            let mut flat = Vec::with_capacity(order.len() * width);
+            for &i in order {
+                flat.extend_from_slice(&values[i][..width]);
+            }
+            merged.arrays.push((name.clone(), flat));
+        }
+        Ok(merged)
+    }
+}
+
 /// What a solver's next step depends on besides the particles: see [`crate::Solver`].
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SolverState {
@@ -89,10 +150,27 @@ pub struct SolverState {
     pub method: String,
     /// Steps taken (sorting and re-initialisation schedules count them).
     pub steps: u64,
-    /// The solver's arrays.
+    /// The solver's arrays that are not per particle.
     pub arrays: StateArrays,
+    /// Its arrays of one entry (of a fixed number of values) per particle, in the particles'
+    /// order. One rank of a distributed run saves those of the particles it owns, and a
+    /// restart puts the ranks' arrays together by particle id ([`StateArrays::merge`]).
+    pub per_particle: StateArrays,
     /// The state of its moving walls ([`crate::WallMotion::save_state`]), if it has any.
     pub wall_motion: Option<Vec<u8>>,
+    /// The cut of the cells between the ranks of a distributed run (`None` on one process).
+    pub partition: Option<PartitionState>,
+}
+
+/// How a distributed run's cells were cut between its ranks ([`crate::Distribution`]): a
+/// restart on as many ranks cuts them alike.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PartitionState {
+    /// The first Morton key of each rank after the first
+    /// ([`geosph_partition::Partition::cuts`]).
+    pub cuts: Vec<u64>,
+    /// The imbalance (largest rank's work over the mean) the cut reached.
+    pub imbalance: Real,
 }
 
 impl SolverState {
@@ -102,7 +180,9 @@ impl SolverState {
             method: method.to_owned(),
             steps: steps as u64,
             arrays: StateArrays::default(),
+            per_particle: StateArrays::default(),
             wall_motion: None,
+            partition: None,
         }
     }
 
@@ -142,5 +222,30 @@ mod tests {
                 .0,
             "saved by the wcsph solver, not dfsph"
         );
+    }
+
+    #[test]
+    fn pieces_merge_by_the_order_given() {
+        // Two ranks' pieces: particles 0 and 2 on the first, none then 1 on the second.
+        let piece = |velocity: &[Vector<2>], rate: &[Real]| {
+            let mut arrays = StateArrays::default();
+            arrays.push_matrices("velocity", velocity);
+            arrays.push("rate", rate);
+            arrays
+        };
+        let v = |x: Real| Vector::<2>::new(x, -x);
+        let first = piece(&[v(0.0), v(2.0)], &[10.0, 12.0]);
+        let empty = piece(&[], &[]);
+        let second = piece(&[v(1.0)], &[11.0]);
+        let parts = [(2, &first), (0, &empty), (1, &second)];
+        let mut merged = StateArrays::merge(&parts, &[0, 2, 1]).unwrap();
+        assert_eq!(
+            merged.take_matrices::<2, 1>("velocity", 3).unwrap(),
+            vec![v(0.0), v(1.0), v(2.0)]
+        );
+        assert_eq!(merged.take("rate").unwrap(), vec![10.0, 11.0, 12.0]);
+        let odd = piece(&[v(1.0)], &[11.0, 13.0]);
+        let error = StateArrays::merge(&[(2, &first), (1, &odd)], &[0, 2, 1]).unwrap_err();
+        assert_eq!(error.0, "`rate` holds 2 values for 1 particles");
     }
 }

@@ -221,7 +221,7 @@ pub trait PressureMethod<const D: usize>: Send {
     /// per-particle arrays.
     fn retain(&mut self, _keep: &[bool]) {}
 
-    /// Adds the method's own warm-start arrays to a checkpoint's `arrays`.
+    /// Adds the method's own per-particle warm-start arrays to a checkpoint's `arrays`.
     fn save_state(&self, _arrays: &mut StateArrays) {}
 
     /// Takes the method's warm-start arrays back from `arrays` (a restart).
@@ -449,7 +449,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         state
             .arrays
             .push("max_acceleration", &[self.max_acceleration]);
-        self.method.save_state(&mut state.arrays);
+        self.method.save_state(&mut state.per_particle);
         state.wall_motion = self.motion.as_ref().map(|motion| motion.save_state());
         state
     }
@@ -461,7 +461,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
     ) -> Result<(), SolverError> {
         let steps = state.steps_of(self.name())?;
         let max_acceleration = state.arrays.take_value("max_acceleration")?;
-        self.method.restore_state(&mut state.arrays)?;
+        self.method.restore_state(&mut state.per_particle)?;
         restore_wall_motion(&mut self.motion, &state.wall_motion, &mut self.system.walls)?;
         self.system.update(fluid)?;
         self.max_acceleration = max_acceleration;

@@ -29,8 +29,8 @@ pub(super) struct RankView<const D: usize> {
 }
 
 /// Makes `solver` one rank's share of the run when `options` has a transport of more than
-/// one rank (after the solver's stage before t = 0, which every rank runs in full); `None`
-/// otherwise. Checkpoints and restarts are not distributed yet: an error.
+/// one rank (after the solver's stage before t = 0, which every rank runs in full, or the
+/// restart, which every rank reads in full); `None` otherwise.
 pub(super) fn distribute<const D: usize>(
     options: &RunOptions,
     solver: &mut dyn Solver<D>,
@@ -44,11 +44,6 @@ pub(super) fn distribute<const D: usize>(
     else {
         return Ok(None);
     };
-    if options.restart.is_some() || options.checkpoint_every.is_some() {
-        return Err(SolverError::NotDistributed(
-            "checkpoints and restarts (`--checkpoint-every`, `--restart`) do not run on several ranks yet".into(),
-        ));
-    }
     solver.distribute(fluid, Box::new(Arc::clone(transport)))?;
     Ok(Some(RankView {
         transport: Arc::clone(transport),

@@ -220,6 +220,10 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         self.system.lists.distribution()
     }
 
+    fn distribution_mut(&mut self) -> Option<&mut Distribution<D>> {
+        self.system.lists.distribution_mut()
+    }
+
     fn sound_speed(&self) -> Real {
         self.system.wave_speed
     }
@@ -257,15 +261,24 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         Ok(())
     }
 
-    /// The step count, the last accelerations (they bound the next Δt) and the positions of
-    /// the neighbour lists; stress, strain and displacement travel with the particles.
+    /// The step count, the last accelerations (they bound the next Δt) and the positions of the
+    /// neighbour lists; stress, strain and displacement travel with the particles. In a
+    /// distributed run, the accelerations of the particles this rank owns and the cut of the
+    /// cells, without the lists (the next step starts with a set-up, which rebuilds them).
     fn save_state(&self) -> SolverState {
         let mut state = SolverState::new(self.name(), self.steps);
+        let acceleration = self.system.acceleration();
+        let lists = &self.system.lists;
+        let owned = lists.owned(acceleration.len());
         state
-            .arrays
-            .push_matrices("acceleration", self.system.acceleration());
-        if let Some(listed) = self.system.lists.listed_positions() {
-            state.arrays.push_matrices("listed_position", listed);
+            .per_particle
+            .push_matrices("acceleration", &acceleration[..owned]);
+        state.partition = lists.partition_state();
+        if let Some(listed) = lists
+            .listed_positions()
+            .filter(|_| state.partition.is_none())
+        {
+            state.per_particle.push_matrices("listed_position", listed);
         }
         state
     }
@@ -282,16 +295,14 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         if let Some(stage) = self.geostatic.take() {
             self.system.release_walls(&stage)?;
         }
-        let arrays = &mut state.arrays;
-        let acceleration = arrays.take("acceleration")?;
-        let acceleration = acceleration
-            .chunks_exact(D)
-            .map(geosph_core::Vector::<D>::from_column_slice)
-            .collect();
-        let listed = match arrays.contains("listed_position") {
-            true => Some(arrays.take_matrices("listed_position", soil.len())?),
+        let n = soil.len();
+        let per_particle = &mut state.per_particle;
+        let acceleration = per_particle.take_matrices("acceleration", n)?;
+        let listed = match per_particle.contains("listed_position") {
+            true => Some(per_particle.take_matrices("listed_position", n)?),
             false => None,
         };
+        self.system.lists.restore_partition(state.partition);
         self.system.restore(acceleration, listed)?;
         self.steps = steps;
         Ok(())

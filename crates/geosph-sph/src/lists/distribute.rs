@@ -8,11 +8,13 @@ use geosph_partition::{PartitionError, Transport};
 use super::PairLists;
 use crate::distributed::{Distribution, ExchangeCounts};
 use crate::solver::SolverError;
+use crate::state::PartitionState;
 
 impl<const D: usize> PairLists<D> {
     /// Makes these the lists of one rank of `transport`: from the next
     /// [`PairLists::reorder_if_due`] on, the particles are this rank's own followed by its
-    /// halo. Needs a Verlet skin (the halo's margin between set-ups).
+    /// halo. Needs a Verlet skin (the halo's margin between set-ups). A cut restored with a
+    /// checkpoint ([`PairLists::restore_partition`]) is used on as many ranks.
     ///
     /// # Panics
     /// If the lists are already distributed.
@@ -27,6 +29,7 @@ impl<const D: usize> PairLists<D> {
             self.domain.clone(),
             radius,
             self.skin,
+            self.restored_partition.take(),
         )?);
         self.valid = false;
         Ok(())
@@ -41,6 +44,25 @@ impl<const D: usize> PairLists<D> {
             ))),
             None => Ok(()),
         }
+    }
+
+    /// Keeps the cut of a distributed run's checkpoint (`None`: one process's) for
+    /// [`PairLists::distribute`].
+    pub fn restore_partition(&mut self, partition: Option<PartitionState>) {
+        self.restored_partition = partition;
+    }
+
+    /// The cut to save with the run ([`Distribution::partition_state`]; `None` on one
+    /// process).
+    pub fn partition_state(&self) -> Option<PartitionState> {
+        self.distribution
+            .as_ref()
+            .and_then(Distribution::partition_state)
+    }
+
+    /// This rank's share of a distributed run, if it is one, to change.
+    pub fn distribution_mut(&mut self) -> Option<&mut Distribution<D>> {
+        self.distribution.as_mut()
     }
 
     /// This rank's share of a distributed run, if it is one.
