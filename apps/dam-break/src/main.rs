@@ -146,9 +146,18 @@ fn main() -> ExitCode {
             );
             ExitCode::SUCCESS
         }
+        // Every rank stops at the same step on an interrupt (the ranks agree on it): each
+        // exits with its status, and rank 0 finishes its files and its message.
         Err(dam_break::Error::Run(error @ RunError::Interrupted { .. })) => {
-            eprintln!("dam-break: {error}");
-            end_ranks(&options, interrupt::EXIT_INTERRUPTED)
+            if root {
+                eprintln!("dam-break: {error}");
+            }
+            ExitCode::from(interrupt::EXIT_INTERRUPTED)
+        }
+        // A blow-up found on every rank: rank 0 writes the report and ends the job; the
+        // others wait for it rather than end it before the report is written.
+        Err(dam_break::Error::Run(error @ RunError::BlowUp { .. })) if !root => {
+            ExitCode::from(error.exit_code())
         }
         Err(error) => {
             eprintln!("error: {error}");

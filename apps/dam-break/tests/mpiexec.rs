@@ -112,22 +112,49 @@ fn largest_difference(a: &Path, b: &Path) -> f64 {
 
 #[test]
 fn distributed_checkpoints_restart_bitwise_on_as_many_ranks() {
-    let run = folder("dam-break-mpi-checkpoint");
     // 5 000 particles: at dx = 0.04 m no particle had changed cells since the last set-up at
     // the checkpoint, and the restart matched even without the set-up that follows a
     // checkpoint (`Distribution::set_up_next_step`); at 0.02 m it does not.
-    let args = [
+    let dam_break = [
         "--dx",
         "0.02",
         "--end-time",
         "0.3",
-        "--quiet",
         "--checkpoint-every",
         "0.1",
     ];
+    restarts_match(
+        "dam-break",
+        &dam_break,
+        &[(2, true), (4, false), (1, false)],
+    );
+    // The soil collapse (1 250 particles, checkpoint at 0.09 s): its state is the particles'
+    // stress, strain and displacement and the solver's last accelerations.
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/scenes/granular-collapse.ron"
+    );
+    let collapse = [
+        "--scene",
+        scene,
+        "--dx",
+        "0.004",
+        "--end-time",
+        "0.1",
+        "--checkpoint-every",
+        "0.03",
+    ];
+    restarts_match("collapse", &collapse, &[(2, true), (1, false)]);
+}
+
+/// Runs `args` on 2 ranks with checkpoints, then restarts from the last checkpoint on each
+/// of `restarts`' rank counts (1: one process without `mpiexec`): bitwise the same files, or
+/// within round-off of them.
+fn restarts_match(name: &str, args: &[&str], restarts: &[(usize, bool)]) {
+    let run = folder(&format!("{name}-mpi-checkpoint"));
     let with_out = |out: &Path| {
         let mut args = args.to_vec();
-        args.extend(["--out", out.to_str().unwrap()]);
+        args.extend(["--quiet", "--out", out.to_str().unwrap()]);
         args.into_iter().map(str::to_owned).collect::<Vec<_>>()
     };
     let launch = |ranks: usize, args: &[String]| {
@@ -139,16 +166,16 @@ fn distributed_checkpoints_restart_bitwise_on_as_many_ranks() {
         assert!(output.status.success(), "{ranks} ranks:\n{}", text(&output));
     };
     launch(2, &with_out(&run));
-    // The last checkpoint (t = 0.2 s): a manifest and one piece per rank, the earlier
-    // checkpoint's pieces removed.
+    // The last checkpoint: a manifest and one piece per rank, the earlier checkpoints'
+    // pieces removed.
     let pieces: Vec<_> = std::fs::read_dir(run.join("checkpoint-pieces"))
         .unwrap()
         .flatten()
         .map(|entry| entry.file_name().to_string_lossy().into_owned())
         .collect();
     assert_eq!(pieces.len(), 2, "{pieces:?}");
-    for (ranks, bitwise) in [(2, true), (4, false), (1, false)] {
-        let restarted = folder(&format!("dam-break-mpi-restart-{ranks}"));
+    for &(ranks, bitwise) in restarts {
+        let restarted = folder(&format!("{name}-mpi-restart-{ranks}"));
         copy_run(&run, &restarted);
         let mut args = with_out(&restarted);
         args.extend([
@@ -169,7 +196,10 @@ fn distributed_checkpoints_restart_bitwise_on_as_many_ranks() {
                 ),
                 // On another rank count (or one process) each particle sums its neighbours in
                 // another order: round-off (docs/parallel.md, "The validation").
-                false => assert!(difference <= 1e-9, "{ranks} ranks, {file}: {difference:e}"),
+                false => assert!(
+                    difference <= 1e-9,
+                    "{name} on {ranks} ranks, {file}: {difference:e}"
+                ),
             }
         }
         if bitwise {

@@ -33,7 +33,10 @@ pub struct RunOptions {
     /// current frame and a checkpoint and stops with [`RunError::Interrupted`].
     pub interrupt: Option<Arc<AtomicBool>>,
     /// The ranks of a distributed run (MPI, started by `mpiexec`); `None` or one rank: the
-    /// run is one process. Rank 0 writes the output.
+    /// run is one process. Rank 0 writes the output, every rank its pieces into
+    /// [`RunOptions::pieces_dir`] (without it, no frames or checkpoints). An error that ends
+    /// the run on some ranks only leaves the others waiting in their next exchange: end the
+    /// job (`Transport::abort`), as the apps do.
     pub transport: Option<Ranks>,
 }
 

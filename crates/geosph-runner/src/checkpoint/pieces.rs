@@ -34,7 +34,12 @@ impl Checkpoint {
         for file in &self.pieces {
             let piece_path = folder.join(file);
             let piece = Self::read_file::<D>(&piece_path, scene)?;
-            if piece.progress != self.progress || !piece.pieces.is_empty() {
+            // Time and step, not the whole progress: its stage report may hold NaN (a
+            // measure over no particles), which is never equal to itself.
+            let (at, manifest_at) = (&piece.progress, &self.progress);
+            let same_step =
+                at.steps == manifest_at.steps && at.time.to_bits() == manifest_at.time.to_bits();
+            if !same_step || !piece.pieces.is_empty() {
                 return Err(CheckpointError::Mismatch {
                     path: piece_path,
                     reason: format!(

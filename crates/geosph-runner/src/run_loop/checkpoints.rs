@@ -30,6 +30,9 @@ impl<const D: usize> super::RunLoop<'_, D> {
         let mut due = !finished && self.checkpoints.due(time);
         let can_save = match &self.ranks {
             Some(view) => {
+                // Rank 0's clock decides (a wall-clock interval would end at other steps on
+                // other ranks).
+                due &= view.is_root();
                 [interrupted, due] = view.any([interrupted, due]);
                 self.options.pieces_dir.is_some()
             }
@@ -46,6 +49,8 @@ impl<const D: usize> super::RunLoop<'_, D> {
                         let solver = self.solver.save_state();
                         self.checkpoint(ParticleState::save(&self.fluid), solver)
                             .write(path)?;
+                        // The pieces of a distributed run this one restarted from.
+                        remove_stale_pieces(path, &[]);
                     }
                 }
             }

@@ -14,6 +14,7 @@ impl<const D: usize> super::RunLoop<'_, D> {
     /// particles and walls as one `.vtu`; on several ranks, this rank's piece, and once every
     /// rank has written its own, rank 0 the `.pvtu`. Nothing when VTK output is off.
     pub(super) fn write_frame(&mut self, time: Real) -> Result<(), RunError> {
+        let split = self.owned_after_split();
         let Some(view) = &mut self.ranks else {
             if let Some(output) = &mut self.output {
                 output.write_frame(time, &self.fluid, self.solver.as_ref())?;
@@ -24,19 +25,18 @@ impl<const D: usize> super::RunLoop<'_, D> {
         let Some(folder) = view.frames_folder(self.options, self.scene) else {
             return Ok(());
         };
-        std::fs::create_dir_all(&folder).map_err(|source| Error::Io {
-            path: folder.clone(),
-            source,
-        })?;
         let surfaces = self.scene.output.surface.is_some();
-        if surfaces {
-            let owned = match self.solver.distribution() {
-                Some(distribution) => distribution.owned(),
-                None => self.fluid.len(),
-            };
+        if let Some(owned) = split.filter(|_| surfaces) {
             view.gather(&self.fluid, owned);
         }
         let view = &*view;
+        // Every particle, for the free surface: gathered, or before the first step shares
+        // them out, this rank's own set.
+        let whole = match split {
+            Some(_) => &view.whole,
+            None => &self.fluid,
+        };
+        let whole = surfaces.then_some(whole);
         let (rank, ranks) = (view.rank(), view.size());
         let frame = self.state.frames as usize;
         let file = folder.join(piece_file(&self.scene.name, frame, rank));
@@ -45,22 +45,26 @@ impl<const D: usize> super::RunLoop<'_, D> {
         // share of each by index.
         let solver = self.solver.as_ref();
         let walls = &solver.walls().position;
-        let distribution = solver
-            .distribution()
-            .filter(|distribution| distribution.counts().setups > 0);
-        let split = |n: usize| n * rank / ranks..n * (rank + 1) / ranks;
-        let particles = match distribution {
-            Some(distribution) => 0..distribution.owned(),
-            None => split(self.fluid.len()),
+        let distribution = solver.distribution().filter(|_| split.is_some());
+        let share = |n: usize| n * rank / ranks..n * (rank + 1) / ranks;
+        let particles = match split {
+            Some(owned) => 0..owned,
+            None => share(self.fluid.len()),
         };
-        let wall_share = split(walls.len());
+        let wall_share = share(walls.len());
         let wall = |i: usize| match distribution {
             Some(distribution) => distribution.owner(&walls[i]) == Some(rank),
             None => wall_share.contains(&i),
         };
         let output = &mut self.output;
         with_frame_sets(&self.fluid, particles, solver, &wall, |sets| {
-            let written = write_vtu_sets(&file, sets);
+            // A failure here is agreed below, so that no rank leaves the others waiting.
+            let written = std::fs::create_dir_all(&folder)
+                .map_err(|source| Error::Io {
+                    path: folder.clone(),
+                    source,
+                })
+                .and_then(|()| write_vtu_sets(&file, sets));
             let [failed] = view.any([written.is_err()]);
             written?;
             if failed {
@@ -72,9 +76,7 @@ impl<const D: usize> super::RunLoop<'_, D> {
                 });
             }
             match output {
-                Some(output) => {
-                    output.add_pieces(time, sets, ranks, surfaces.then_some(&view.whole))
-                }
+                Some(output) => output.add_pieces(time, sets, ranks, whole),
                 None => Ok(()),
             }
         })?;
