@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use geosph_runner::cli::RunArgs;
+use geosph_runner::cli::{self, RunArgs};
 use geosph_runner::{RunError, interrupt};
 use geosph_scene::{Scene, SolverSpec};
 
@@ -146,39 +146,22 @@ fn main() -> ExitCode {
             );
             ExitCode::SUCCESS
         }
-        // Every rank stops at the same step on an interrupt (the ranks agree on it): each
-        // exits with its status, and rank 0 finishes its files and its message.
-        Err(dam_break::Error::Run(error @ RunError::Interrupted { .. })) => {
-            if root {
-                eprintln!("dam-break: {error}");
-            }
-            ExitCode::from(interrupt::EXIT_INTERRUPTED)
-        }
-        // A blow-up found on every rank: rank 0 writes the report and ends the job; the
-        // others wait for it rather than end it before the report is written.
-        Err(dam_break::Error::Run(error @ RunError::BlowUp { .. })) if !root => {
+        // Every rank stops at the same step on an interrupt or a blow-up: the others exit
+        // without ending the job, so that rank 0 finishes its files and message.
+        Err(dam_break::Error::Run(error)) if !root && cli::ends_together(&error) => {
             ExitCode::from(error.exit_code())
+        }
+        Err(dam_break::Error::Run(error @ RunError::Interrupted { .. })) => {
+            eprintln!("dam-break: {error}");
+            ExitCode::from(interrupt::EXIT_INTERRUPTED)
         }
         Err(error) => {
             eprintln!("error: {error}");
             match error {
                 // 3 for a blow-up (the report is in the output folder), 1 otherwise.
-                dam_break::Error::Run(error) => end_ranks(&options, error.exit_code()),
-                _ => end_ranks(&options, 1),
+                dam_break::Error::Run(error) => cli::end_ranks(&options, error.exit_code()),
+                _ => cli::end_ranks(&options, 1),
             }
         }
     }
-}
-
-/// Exit status `code`; in a distributed run every rank's, at once (an error on some ranks, a
-/// failed write on rank 0, must not leave the others waiting).
-fn end_ranks(options: &geosph_runner::RunOptions, code: u8) -> ExitCode {
-    if let Some(ranks) = options
-        .transport
-        .as_ref()
-        .filter(|ranks| ranks.0.size() > 1)
-    {
-        ranks.0.abort(i32::from(code));
-    }
-    ExitCode::from(code)
 }

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use geosph_runner::cli::RunArgs;
+use geosph_runner::cli::{self, RunArgs};
 use geosph_runner::{RunError, interrupt};
 use geosph_scene::{Region, Scene, SolverSpec};
 
@@ -88,13 +88,30 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    // Under `mpiexec` every rank runs the scene; rank 0 alone writes and reports.
+    let root = options.out_dir.is_some();
+    let series = match (cli.aspect_ratios, cli.factor_of_safety) {
+        (true, _) => Some("--aspect-ratios (a series of runs)"),
+        (_, true) => Some("--factor-of-safety (a search of trial runs)"),
+        _ => None,
+    };
+    // Every rank decides alike, before any exchange: each exits, none ends the job (which
+    // could stop rank 0 before it prints).
+    if let Some(Err(message)) = series.map(|what| cli::refuse_ranks(&options, what)) {
+        if root {
+            eprintln!("error: {message}");
+        }
+        return ExitCode::FAILURE;
+    }
     if cli.aspect_ratios {
         return aspect_ratios(cli.dx, &options, &out);
     }
     let scene = match load(&cli) {
         Ok(scene) => scene,
         Err(message) => {
-            eprintln!("error: {message}");
+            if root {
+                eprintln!("error: {message}");
+            }
             return ExitCode::FAILURE;
         }
     };
@@ -128,17 +145,22 @@ fn main() -> ExitCode {
         );
         return run_frames(&scene, &options);
     }
-    eprintln!(
-        "slope-failure: {} ({}D, dx = {} m, to t = {} s) -> {}",
+    let say = |message: &str| {
+        if root {
+            eprintln!("slope-failure: {message}");
+        }
+    };
+    say(&format!(
+        "{} ({}D, dx = {} m, to t = {} s) -> {}",
         scene.name,
         scene.dimension,
         scene.dx,
         scene.end_time,
         out.display()
-    );
+    ));
     if !matches!(scene.solver, SolverSpec::Soil(_)) {
-        eprintln!(
-            "slope-failure: a fluid scene (a flow down a slope, loads on barriers): VTU frames, diagnostics and the load and probe plots"
+        say(
+            "a fluid scene (a flow down a slope, loads on barriers): VTU frames, diagnostics and the load and probe plots",
         );
         return run_frames(&scene, &options);
     }
@@ -147,10 +169,11 @@ fn main() -> ExitCode {
         .as_ref()
         .is_none_or(|soil| matches!(soil.blocks.first(), Some(Region::Box { .. })));
     if !column && scene.dimension == 3 {
-        eprintln!(
-            "slope-failure: the first soil block is not a box: the deposit is measured about the soil's vertical axis, as an axisymmetric column's"
+        say(
+            "the first soil block is not a box: the deposit is measured about the soil's vertical axis, as an axisymmetric column's",
         );
         return match slope_failure::axisymmetric::run(&scene, &options) {
+            Ok(_) if !root => ExitCode::SUCCESS,
             Ok(report) => {
                 println!("{}", report.summary);
                 println!("{report}");
@@ -161,16 +184,17 @@ fn main() -> ExitCode {
                 );
                 ExitCode::SUCCESS
             }
-            Err(error) => failure(error, None),
+            Err(error) => failure(error, None, &options),
         };
     }
     if !column {
-        eprintln!(
-            "slope-failure: the first soil block is not a box, so no column to measure: VTU frames and diagnostics only"
+        say(
+            "the first soil block is not a box, so no column to measure: VTU frames and diagnostics only",
         );
         return run_frames(&scene, &options);
     }
     match slope_failure::run(&scene, &options) {
+        Ok(_) if !root => ExitCode::SUCCESS,
         Ok(report) => {
             println!("{}", report.summary);
             println!("{report}");
@@ -181,7 +205,7 @@ fn main() -> ExitCode {
             );
             ExitCode::SUCCESS
         }
-        Err(error) => failure(error, None),
+        Err(error) => failure(error, None, &options),
     }
 }
 
@@ -196,9 +220,18 @@ fn one_run_only(options: &geosph_runner::RunOptions, mode: &str) -> Result<(), E
 
 /// Prints `error` and returns the exit status: 3 for a blow-up (its report is in the output
 /// folder), the interrupt status after Ctrl-C (with `rerun`, what to do instead of a restart),
-/// 1 otherwise.
-fn failure(error: slope_failure::Error, rerun: Option<&str>) -> ExitCode {
+/// 1 otherwise. In a distributed run rank 0 prints; an error that did not end every rank
+/// at the same step ends the job ([`cli::end_ranks`]).
+fn failure(
+    error: slope_failure::Error,
+    rerun: Option<&str>,
+    options: &geosph_runner::RunOptions,
+) -> ExitCode {
+    let root = options.out_dir.is_some();
     match error {
+        slope_failure::Error::Run(error) if !root && cli::ends_together(&error) => {
+            ExitCode::from(error.exit_code())
+        }
         slope_failure::Error::Run(error @ RunError::Interrupted { .. }) => {
             match rerun {
                 Some(rerun) => eprintln!("slope-failure: interrupted; {rerun}"),
@@ -208,11 +241,11 @@ fn failure(error: slope_failure::Error, rerun: Option<&str>) -> ExitCode {
         }
         slope_failure::Error::Run(error) => {
             eprintln!("error: {error}");
-            ExitCode::from(error.exit_code())
+            cli::end_ranks(options, error.exit_code())
         }
         error => {
             eprintln!("error: {error}");
-            ExitCode::FAILURE
+            cli::end_ranks(options, 1)
         }
     }
 }
@@ -281,6 +314,7 @@ fn aspect_ratios(
         Err(error) => failure(
             error,
             Some("a series cannot be restarted: run --aspect-ratios again into a new folder"),
+            options,
         ),
     }
 }
@@ -289,6 +323,7 @@ fn aspect_ratios(
 /// summary (a slope, or the run-out after a factor-of-safety search).
 fn run_frames(scene: &Scene, options: &geosph_runner::RunOptions) -> ExitCode {
     match geosph_runner::run(scene, options, &mut geosph_runner::NoObserver) {
+        Ok(_) if options.out_dir.is_none() => ExitCode::SUCCESS,
         Ok(summary) => {
             println!("{summary}");
             if let Some(dir) = &options.out_dir {
@@ -309,6 +344,6 @@ fn run_frames(scene: &Scene, options: &geosph_runner::RunOptions) -> ExitCode {
             }
             ExitCode::SUCCESS
         }
-        Err(error) => failure(error.into(), None),
+        Err(error) => failure(error.into(), None, options),
     }
 }

@@ -78,6 +78,46 @@ pub fn launch_root() -> bool {
         .is_none_or(|rank| rank.trim() == "0")
 }
 
+/// Exit status `code`; in a distributed run every rank's at once (`Transport::abort`): an
+/// error on some ranks, a failed write on rank 0, must not leave the others waiting in their
+/// next exchange. For an interrupt or a blow-up that every rank found at the same step, the
+/// ranks other than 0 return [`ExitCode`] without ending the job, so that rank 0 finishes
+/// its files and message ([`ends_together`]).
+pub fn end_ranks(options: &RunOptions, code: u8) -> std::process::ExitCode {
+    if let Some(ranks) = options
+        .transport
+        .as_ref()
+        .filter(|ranks| ranks.0.size() > 1)
+    {
+        ranks.0.abort(i32::from(code));
+    }
+    std::process::ExitCode::from(code)
+}
+
+/// Whether `error` ended every rank of a distributed run at the same step (an interrupt, a
+/// blow-up): the ranks other than 0 then exit with its status without ending the job.
+pub fn ends_together(error: &crate::RunError) -> bool {
+    matches!(
+        error,
+        crate::RunError::Interrupted { .. } | crate::RunError::BlowUp { .. }
+    )
+}
+
+/// Whether the run is distributed over more than one rank (`what`, a mode that is not one
+/// run, is then refused with a message saying so).
+pub fn refuse_ranks(options: &RunOptions, what: &str) -> Result<(), String> {
+    match options
+        .transport
+        .as_ref()
+        .filter(|ranks| ranks.0.size() > 1)
+    {
+        Some(_) => Err(format!(
+            "{what} does not run on several ranks yet: start it without mpiexec"
+        )),
+        None => Ok(()),
+    }
+}
+
 /// The ranks of this launch when built with the feature `mpi` (MPI started with serialised
 /// threading; a failed rank aborts the job rather than leaving the others waiting); `None`
 /// otherwise.

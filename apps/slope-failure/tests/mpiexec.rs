@@ -1,0 +1,92 @@
+//! `mpiexec -n 2` and `-n 4 slope-failure` (feature `mpi`): the granular column collapse of
+//! Bui et al. (2008) distributed over the ranks writes the run-out, deposit and diagnostics
+//! of one process within round-off, once (rank 0); the modes that are not one run refuse
+//! several ranks with a message. Needs an MPI installation (`.ci/run` installs MPICH).
+#![cfg(feature = "mpi")]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+use geosph_mpi::launch::{self, mpiexec, text};
+
+const APP: &str = env!("CARGO_BIN_EXE_slope-failure");
+
+const TIMEOUT: Duration = Duration::from_secs(600);
+
+/// 1 250 particles to 0.04 s, the onset of the flow: later, the switches between elastic and
+/// plastic response and between sticking and slipping amplify round-off (docs/parallel.md,
+/// "The validation"), in one process as in several.
+const ARGS: [&str; 5] = ["--dx", "0.004", "--end-time", "0.04", "--quiet"];
+
+fn folder(name: &str) -> PathBuf {
+    let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&folder);
+    folder
+}
+
+/// The numbers of a CSV file, by row, the rows sorted (the deposit lists particles in the
+/// order the run holds them, which differs between one process and several).
+fn sorted_rows(path: &Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    rows.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    rows
+}
+
+#[test]
+fn a_distributed_collapse_writes_what_one_process_writes() {
+    let alone = folder("slope-failure-mpi-1");
+    let output = launch::run(
+        Command::new(APP).args(ARGS).arg("--out").arg(&alone),
+        TIMEOUT,
+    )
+    .unwrap();
+    assert!(output.status.success(), "{}", text(&output));
+    for ranks in [2, 4] {
+        let out = folder(&format!("slope-failure-mpi-{ranks}"));
+        let mut args = ARGS.to_vec();
+        args.extend(["--out", out.to_str().unwrap()]);
+        let output = mpiexec(ranks, APP, &args, TIMEOUT).expect("mpiexec on the PATH");
+        let text = text(&output);
+        assert!(output.status.success(), "{ranks} ranks:\n{text}");
+        assert_eq!(text.matches("final runout").count(), 1, "{text}");
+        for rank in 0..ranks {
+            assert!(text.contains(&format!("rank {rank} ")), "{text}");
+        }
+        // Within round-off of one process: the runs differ only in the order each particle
+        // sums its neighbours.
+        for file in ["diagnostics.csv", "runout.csv", "deposit.csv"] {
+            let (expected, got) = (sorted_rows(&alone.join(file)), sorted_rows(&out.join(file)));
+            assert_eq!(expected.len(), got.len(), "{file}: rows");
+            for (a, b) in expected.iter().zip(&got) {
+                for (x, y) in a.iter().zip(b) {
+                    let scale = x.abs().max(y.abs()).max(1e-300);
+                    assert!(
+                        (x - y).abs() <= 1e-9 * scale,
+                        "{ranks} ranks, {file}: {x} against {y}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn searches_and_series_refuse_several_ranks() {
+    let out = folder("slope-failure-mpi-refused");
+    for mode in ["--factor-of-safety", "--aspect-ratios"] {
+        let args = [mode, "--out", out.to_str().unwrap()];
+        let output = mpiexec(2, APP, &args, TIMEOUT).expect("mpiexec on the PATH");
+        let text = text(&output);
+        assert!(!output.status.success(), "{mode}: {text}");
+        assert!(
+            text.contains("does not run on several ranks yet"),
+            "{mode}: {text}"
+        );
+    }
+}
