@@ -25,11 +25,7 @@ use geosph_sph::Solver;
 
 /// The WCSPH scene `text` (its meshes in `data/scenes/`) at spacing `dx`, advanced to
 /// t = `until` (at least one step, which builds the lists).
-fn advanced<const D: usize>(
-    text: &str,
-    dx: f64,
-    until: f64,
-) -> (Box<dyn Solver<D>>, geosph_core::Particles<D>, f64) {
+fn advanced<const D: usize>(text: &str, dx: f64, until: f64) -> State<D> {
     let mut scene = Scene::from_ron(text).unwrap();
     scene.folder = Some(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../data/scenes"));
     scene.dx = dx;
@@ -45,27 +41,42 @@ fn advanced<const D: usize>(
     (solver, fluid, time)
 }
 
-/// Steps of `solver` on 1 and 2 threads, with the fluid particle count as throughput.
+/// A solver, its particles and the time they are at.
+type State<const D: usize> = (Box<dyn Solver<D>>, geosph_core::Particles<D>, f64);
+
+/// Steps of the solver of `state` as benchmark `id`, on `pool` (`None`: the default pool).
+fn bench_steps<const D: usize>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    id: BenchmarkId,
+    (solver, fluid, time): &mut State<D>,
+    pool: Option<&rayon::ThreadPool>,
+) {
+    let mut steps = |b: &mut criterion::Bencher<'_>| {
+        b.iter(|| {
+            let report = solver.step(fluid, *time, 1.0).unwrap();
+            *time += report.dt;
+            black_box(report)
+        })
+    };
+    group.bench_function(id, |b| match pool {
+        Some(pool) => pool.install(|| steps(b)),
+        None => steps(b),
+    });
+}
+
+/// Steps of `state`'s solver on 1 and 2 threads, with the fluid particle count as throughput.
 fn bench_threads<const D: usize>(
     group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
-    (mut solver, mut fluid, mut time): (Box<dyn Solver<D>>, geosph_core::Particles<D>, f64),
+    mut state: State<D>,
 ) {
-    group.throughput(Throughput::Elements(fluid.len() as u64));
+    group.throughput(Throughput::Elements(state.1.len() as u64));
     for threads in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
-        let id = BenchmarkId::new(format!("{D}d/{threads}-threads"), fluid.len());
-        group.bench_function(id, |b| {
-            pool.install(|| {
-                b.iter(|| {
-                    let report = solver.step(&mut fluid, time, 1.0).unwrap();
-                    time += report.dt;
-                    black_box(report)
-                })
-            })
-        });
+        let id = BenchmarkId::new(format!("{D}d/{threads}-threads"), state.1.len());
+        bench_steps(group, id, &mut state, Some(&pool));
     }
 }
 
@@ -87,20 +98,15 @@ fn step(c: &mut Criterion) {
     group.finish();
 }
 
-/// Steps of `solver` on the default pool, with the fluid particle count as throughput.
+/// Steps of `state`'s solver on the default pool, with the fluid particle count as
+/// throughput.
 fn bench_size<const D: usize>(
     group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
-    (mut solver, mut fluid, mut time): (Box<dyn Solver<D>>, geosph_core::Particles<D>, f64),
+    mut state: State<D>,
 ) {
-    group.throughput(Throughput::Elements(fluid.len() as u64));
-    let id = BenchmarkId::new(format!("{D}d"), fluid.len());
-    group.bench_function(id, |b| {
-        b.iter(|| {
-            let report = solver.step(&mut fluid, time, 1.0).unwrap();
-            time += report.dt;
-            black_box(report)
-        })
-    });
+    group.throughput(Throughput::Elements(state.1.len() as u64));
+    let id = BenchmarkId::new(format!("{D}d"), state.1.len());
+    bench_steps(group, id, &mut state, None);
 }
 
 fn size(c: &mut Criterion) {
