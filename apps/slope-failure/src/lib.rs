@@ -1,7 +1,7 @@
 //! The slope-failure application: runs a soil scene (by default the granular column collapse of
 //! Bui et al. 2008) with the geosph runner, tracks the runout front and the height of the soil at
 //! the back wall, and writes `runout.csv`, `runout.png` (front and wall height against time),
-//! `deposit.csv` (the final position and displacement of every soil particle) and
+//! `deposit.csv` (the final position and displacement of every soil particle, by position) and
 //! `deposit.png` (initial and final surface profiles, with the experiment's surface and failure
 //! line when the scene is the set-up of Bui et al. 2008, see [`bui2008`], and the run-out and
 //! final height of the laws of Nguyen et al. 2015 for any column of the same bars, see

@@ -25,8 +25,8 @@ fn folder(name: &str) -> PathBuf {
     folder
 }
 
-/// The numbers of a CSV file, by row, the rows sorted (the deposit lists particles in the
-/// order the run holds them, which differs between one process and several).
+/// The numbers of a CSV file, by row, the rows sorted (the deposit lists particles by
+/// position: particles at one position to round-off may swap rows).
 fn sorted_rows(path: &Path) -> Vec<Vec<f64>> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut rows: Vec<Vec<f64>> = text
