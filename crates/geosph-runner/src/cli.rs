@@ -81,7 +81,7 @@ pub fn launch_root() -> bool {
 /// Exit status `code`; in a distributed run every rank's at once (`Transport::abort`): an
 /// error on some ranks, a failed write on rank 0, must not leave the others waiting in their
 /// next exchange. For an interrupt or a blow-up that every rank found at the same step, the
-/// ranks other than 0 return [`ExitCode`] without ending the job, so that rank 0 finishes
+/// ranks other than 0 return their status without ending the job, so that rank 0 finishes
 /// its files and message ([`ends_together`]).
 pub fn end_ranks(options: &RunOptions, code: u8) -> std::process::ExitCode {
     if let Some(ranks) = options
