@@ -215,3 +215,34 @@ fn restarts_match(name: &str, args: &[&str], restarts: &[(usize, bool)]) {
         }
     }
 }
+
+/// A blow-up on several ranks: the sound speed of 1 m/s makes the acoustic step far too long
+/// for the collapse (tests/tests/blow_up.rs), the density error passes its bound within a few
+/// steps; the ranks agree on it, rank 0 writes the report and the last good state of every
+/// particle and says so once, and the job ends with the blow-up's status.
+#[test]
+fn a_distributed_blow_up_is_reported_once_with_its_files() {
+    let out = folder("dam-break-mpi-blow-up");
+    std::fs::create_dir_all(&out).unwrap();
+    let scene = include_str!("../../../data/scenes/dam-break-2d.ron")
+        .replace("hydrostatic: true", "hydrostatic: false")
+        .replace("cfl: 0.25,", "cfl: 0.25, sound_speed: Some(1.0),");
+    let scene_file = out.join("blow-up.ron");
+    std::fs::write(&scene_file, scene).unwrap();
+    let args = [
+        "--scene",
+        scene_file.to_str().unwrap(),
+        "--dx",
+        "0.05",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let output = mpiexec(2, APP, &args, TIMEOUT).expect("mpiexec on the PATH");
+    let text = text(&output);
+    assert_eq!(output.status.code(), Some(3), "{text}");
+    assert_eq!(text.matches("error: blow-up at").count(), 1, "{text}");
+    for file in ["blowup.txt", "blowup.vtu"] {
+        assert!(out.join(file).is_file(), "{file}: {text}");
+    }
+}

@@ -1,7 +1,7 @@
 //! The slope-failure application: runs a soil scene (by default the granular column collapse of
 //! Bui et al. 2008) with the geosph runner, tracks the runout front and the height of the soil at
 //! the back wall, and writes `runout.csv`, `runout.png` (front and wall height against time),
-//! `deposit.csv` (the final position and displacement of every soil particle, by position) and
+//! `deposit.csv` (the final position and displacement of every soil particle, by id) and
 //! `deposit.png` (initial and final surface profiles, with the experiment's surface and failure
 //! line when the scene is the set-up of Bui et al. 2008, see [`bui2008`], and the run-out and
 //! final height of the laws of Nguyen et al. 2015 for any column of the same bars, see
@@ -270,7 +270,7 @@ pub struct RunoutTracker {
     pub samples: Vec<Sample>,
     /// (x, height) of every particle at the first sample.
     pub initial: Vec<(Real, Real)>,
-    /// (x, height) of every particle at the latest sample.
+    /// (x, height) of every particle at the latest sample, in id order.
     pub latest: Vec<(Real, Real)>,
     /// Displacement |u| of every particle since the release (t = 0) at the latest sample, in
     /// the order of `latest` (zero for a scene without soil fields).
@@ -367,13 +367,18 @@ impl<const D: usize> Observer<D> for RunoutTracker {
             kinetic_energy,
             stress_noise,
         });
+        // In id order, so that the deposit does not depend on the order the run holds its
+        // particles in (which differs between one process and several ranks).
+        let mut by_id: Vec<usize> = (0..x.len()).collect();
+        by_id.sort_unstable_by_key(|&i| soil.id[i]);
         self.latest.clear();
-        self.latest.extend(x.iter().map(|p| (p[0], p[up])));
+        self.latest
+            .extend(by_id.iter().map(|&i| (x[i][0], x[i][up])));
         self.displacement.clear();
         match &soil.soil {
             Some(fields) => self
                 .displacement
-                .extend(fields.displacement.iter().map(|u| u.norm())),
+                .extend(by_id.iter().map(|&i| fields.displacement[i].norm())),
             None => self.displacement.resize(x.len(), 0.0),
         }
         if let (Some(fields), 3) = (&soil.soil, D) {

@@ -71,19 +71,14 @@ pub(crate) fn write_outputs(
             ..Default::default()
         },
     )?;
-    // By position, so that the file does not depend on the order the run holds its particles
-    // in (which differs between one process and several ranks).
-    let mut deposit: Vec<[Real; 3]> = tracker
-        .latest
-        .iter()
-        .zip(&tracker.displacement)
-        .map(|(&(x, y), &u)| [x, y, u])
-        .collect();
-    deposit.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     write_csv_atomically(
         dir.join("deposit.csv"),
         &["x", "height", "displacement"],
-        deposit,
+        tracker
+            .latest
+            .iter()
+            .zip(&tracker.displacement)
+            .map(|(&(x, y), &u)| [x, y, u]),
     )?;
     let (x0, y0) = surface_profile(&tracker.initial, column.spacing);
     let (x1, y1) = surface_profile(&tracker.latest, column.spacing);

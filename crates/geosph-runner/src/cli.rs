@@ -80,9 +80,10 @@ pub fn launch_root() -> bool {
 
 /// Exit status `code`; in a distributed run every rank's at once (`Transport::abort`): an
 /// error on some ranks, a failed write on rank 0, must not leave the others waiting in their
-/// next exchange. For an interrupt or a blow-up that every rank found at the same step, the
-/// ranks other than 0 return their status without ending the job, so that rank 0 finishes
-/// its files and message ([`ends_together`]).
+/// next exchange. Not for an error that ended every rank at the same step
+/// ([`ends_together`]): there the ranks other than 0 return their status without ending the
+/// job (they then wait in MPI's finalisation, which is collective, until rank 0 has written
+/// its files and message).
 pub fn end_ranks(options: &RunOptions, code: u8) -> std::process::ExitCode {
     if let Some(ranks) = options
         .transport
@@ -94,8 +95,10 @@ pub fn end_ranks(options: &RunOptions, code: u8) -> std::process::ExitCode {
     std::process::ExitCode::from(code)
 }
 
-/// Whether `error` ended every rank of a distributed run at the same step (an interrupt, a
-/// blow-up): the ranks other than 0 then exit with its status without ending the job.
+/// Whether `error` ended every rank of a distributed run at the same step: an interrupt, or a
+/// blow-up (found by the health check, whose outcome the ranks agree; a particle leaving the
+/// domain is a solver error there). The ranks other than 0 then exit with its status without
+/// ending the job.
 pub fn ends_together(error: &crate::RunError) -> bool {
     matches!(
         error,

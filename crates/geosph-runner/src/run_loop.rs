@@ -258,8 +258,8 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         self.state.time = time;
         self.state.steps += 1;
         let steps = self.state.steps as usize;
-        // A distributed run does not remove particles: one that left the domain ends it as a
-        // blow-up (the health check, or the list update on every rank).
+        // A distributed run does not remove particles: one that left the domain ends it (the
+        // health check's blow-up, or the list update's error on every rank).
         let escape = match self.ranks {
             Some(_) => Removal::Nothing,
             None => self
@@ -320,6 +320,12 @@ impl<'a, const D: usize> RunLoop<'a, D> {
                 Err(source) => source,
             };
             let step = self.state.steps as usize + 1;
+            // On several ranks only the rank that found a particle outside the domain knows
+            // which: the run ends with the error that names it there ("failed on another
+            // rank" elsewhere), not with a blow-up report, which every rank must reach alike.
+            if self.ranks.is_some() {
+                return Err(RunError::Solver { time, step, source });
+            }
             let removal = self
                 .escapes
                 .during_step(
