@@ -61,7 +61,7 @@ impl RunArgs {
             progress: !self.quiet && root,
             checkpoint_every: self.checkpoint_every,
             restart: self.restart.clone(),
-            interrupt: Some(interrupt::on_ctrl_c()?),
+            interrupt: Some(interrupt::on_ctrl_c(launch_root())?),
             transport,
         })
     }
