@@ -6,13 +6,10 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::Duration;
 
-use geosph_mpi::launch::{self, mpiexec, text};
+use geosph_mpi::launch::{self, APP_TIMEOUT as TIMEOUT, mpiexec, text};
 
 const APP: &str = env!("CARGO_BIN_EXE_slope-failure");
-
-const TIMEOUT: Duration = Duration::from_secs(600);
 
 /// 1 250 particles to 0.04 s, the onset of the flow: later, the switches between elastic and
 /// plastic response and between sticking and slipping amplify round-off (docs/parallel.md,
@@ -20,9 +17,7 @@ const TIMEOUT: Duration = Duration::from_secs(600);
 const ARGS: [&str; 5] = ["--dx", "0.004", "--end-time", "0.04", "--quiet"];
 
 fn folder(name: &str) -> PathBuf {
-    let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&folder);
-    folder
+    launch::fresh_folder(env!("CARGO_TARGET_TMPDIR"), name)
 }
 
 /// The header and the numbers of a CSV file, by row.

@@ -54,14 +54,11 @@ def declared_layout(path):
     return points, arrays
 
 
-def check_vtu(path):
-    """Returns a list of problems with the .vtu at `path` (empty when fine)."""
-    try:
-        declared, declared_arrays = declared_layout(path)
-    except (ElementTree.ParseError, ValueError) as error:
-        return [f"not the expected XML: {error}"]
-
-    reader = vtk.vtkXMLUnstructuredGridReader()
+def read_grid(reader, path, declared, declared_arrays):
+    """Reads the unstructured grid at `path` with `reader` and returns the grid and its
+    problems: VTK errors, points other than the `declared` ones, cells other than one vertex per
+    point, point arrays other than the `declared_arrays` or without one tuple per point and 1,
+    3 or 9 components."""
     errors = catch_errors(reader)
     reader.SetFileName(str(path))
     reader.Update()
@@ -75,18 +72,36 @@ def check_vtu(path):
     elif points > 0 and grid.GetCellType(points - 1) != vtk.VTK_VERTEX:
         problems.append("cells are not VTK_VERTEX")
     data = grid.GetPointData()
-    arrays = []
     for i in range(data.GetNumberOfArrays()):
         array = data.GetArray(i)
         name, components = array.GetName(), array.GetNumberOfComponents()
-        arrays.append(f"{name}[{components}]")
         if array.GetNumberOfTuples() != points:
             problems.append(f"array {name}: {array.GetNumberOfTuples()} tuples for {points} points")
         if components not in (1, 3, 9):
             problems.append(f"array {name}: {components} components")
     if declared_arrays != data.GetNumberOfArrays():
         problems.append(f"{data.GetNumberOfArrays()} point arrays read, {declared_arrays} declared")
-    print(f"  {path.name}: {points} points, arrays {', '.join(arrays) or '-'}")
+    return grid, problems
+
+
+def array_names(grid):
+    """The point arrays of `grid` as name[components]."""
+    data = grid.GetPointData()
+    return [
+        f"{data.GetArray(i).GetName()}[{data.GetArray(i).GetNumberOfComponents()}]"
+        for i in range(data.GetNumberOfArrays())
+    ]
+
+
+def check_vtu(path):
+    """Returns a list of problems with the .vtu at `path` (empty when fine)."""
+    try:
+        declared, declared_arrays = declared_layout(path)
+    except (ElementTree.ParseError, ValueError) as error:
+        return [f"not the expected XML: {error}"]
+    grid, problems = read_grid(vtk.vtkXMLUnstructuredGridReader(), path, declared, declared_arrays)
+    points = grid.GetNumberOfPoints()
+    print(f"  {path.name}: {points} points, arrays {', '.join(array_names(grid)) or '-'}")
     return problems
 
 
@@ -137,25 +152,11 @@ def check_pvtu(path):
         if source is None or not (path.parent / source).is_file():
             return [f"piece {source!r} does not exist"]
         declared += declared_layout(path.parent / source)[0]
-    reader = vtk.vtkXMLPUnstructuredGridReader()
-    errors = catch_errors(reader)
-    reader.SetFileName(str(path))
-    reader.Update()
-    problems = [f"VTK error: {m.strip()}" for m in errors]
-    grid = reader.GetOutput()
-    points = grid.GetNumberOfPoints()
-    if points != declared:
-        problems.append(f"{points} points read, {declared} declared by its pieces")
-    if grid.GetNumberOfCells() != points:
-        problems.append(f"{grid.GetNumberOfCells()} cells for {points} points")
-    data = grid.GetPointData()
-    if data.GetNumberOfArrays() != declared_arrays:
-        problems.append(f"{data.GetNumberOfArrays()} point arrays read, {declared_arrays} declared")
-    for i in range(data.GetNumberOfArrays()):
-        array = data.GetArray(i)
-        if array.GetNumberOfTuples() != points:
-            problems.append(f"array {array.GetName()}: {array.GetNumberOfTuples()} tuples")
-    print(f"  {path.name}: {len(sources)} pieces, {points} points, {data.GetNumberOfArrays()} arrays")
+    grid, problems = read_grid(
+        vtk.vtkXMLPUnstructuredGridReader(), path, declared, declared_arrays
+    )
+    arrays = grid.GetPointData().GetNumberOfArrays()
+    print(f"  {path.name}: {len(sources)} pieces, {grid.GetNumberOfPoints()} points, {arrays} arrays")
     return problems
 
 

@@ -1,8 +1,21 @@
 //! Starting a distributed program under `mpiexec`, as tests and tools do.
 
 use std::io::Read;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
+
+/// How long a test lets a distributed app run before it kills it: the apps' coarse cases end
+/// within a minute here, so a run past this is stuck (a rank waiting in a collective).
+pub const APP_TIMEOUT: Duration = Duration::from_secs(600);
+
+/// The folder `name` under `base` (a test's `CARGO_TARGET_TMPDIR`), emptied of an earlier
+/// run's output so that a test never reads stale files.
+pub fn fresh_folder(base: impl AsRef<Path>, name: &str) -> PathBuf {
+    let folder = base.as_ref().join(name);
+    let _ = std::fs::remove_dir_all(&folder);
+    folder
+}
 
 /// Runs `program` with `args` on `ranks` ranks under `mpiexec` (on the PATH) and returns its
 /// output; a run still going after `timeout` (a rank stuck in a collective) is killed and

@@ -161,25 +161,15 @@ impl ParticleState {
             )));
         }
         let a = &mut self.arrays;
-        let scalars = |a: &mut StateArrays, name: &str| -> Result<Vec<Real>, StateError> {
-            let values = a.take(name)?;
-            match values.len() == n {
-                true => Ok(values),
-                false => Err(StateError(format!(
-                    "`{name}` holds {} values, not {n}",
-                    values.len()
-                ))),
-            }
-        };
         let pressure = match like.pressure {
-            Some(_) => Some(scalars(a, "pressure")?),
+            Some(_) => Some(a.take_values("pressure", n)?),
             None => None,
         };
         let soil = match like.soil {
             Some(_) => Some(SoilFields {
                 stress: a.take_matrices("stress", n)?,
                 strain: a.take_matrices("strain", n)?,
-                plastic_strain: scalars(a, "plastic_strain")?,
+                plastic_strain: a.take_values("plastic_strain", n)?,
                 displacement: a.take_matrices("displacement", n)?,
             }),
             None => None,
@@ -191,8 +181,8 @@ impl ParticleState {
         Ok(Particles {
             position: a.take_matrices("position", n)?,
             velocity: a.take_matrices("velocity", n)?,
-            mass: scalars(a, "mass")?,
-            density: scalars(a, "density")?,
+            mass: a.take_values("mass", n)?,
+            density: a.take_values("density", n)?,
             id: self.id,
             pressure,
             soil,
