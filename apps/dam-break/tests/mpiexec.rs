@@ -8,21 +8,16 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::Duration;
 
-use geosph_mpi::launch::{self, mpiexec, text};
+use geosph_mpi::launch::{self, APP_TIMEOUT as TIMEOUT, mpiexec, text};
 
 const APP: &str = env!("CARGO_BIN_EXE_dam-break");
-
-const TIMEOUT: Duration = Duration::from_secs(600);
 
 /// The coarse dam break of `geosph-distributed-check` (1 250 particles to 0.3 s).
 const ARGS: [&str; 5] = ["--dx", "0.04", "--end-time", "0.3", "--quiet"];
 
 fn folder(name: &str) -> PathBuf {
-    let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&folder);
-    folder
+    launch::fresh_folder(env!("CARGO_TARGET_TMPDIR"), name)
 }
 
 /// The numbers of a CSV file, by row.
@@ -145,6 +140,19 @@ fn distributed_checkpoints_restart_bitwise_on_as_many_ranks() {
         "0.03",
     ];
     restarts_match("collapse", &collapse, &[(2, true), (1, false)]);
+    // DFSPH (1 250 particles, checkpoint at 0.05 s): besides the pressure, each particle
+    // carries both solves' warm starts, and the solver its acceleration bound.
+    let dfsph = [
+        "--solver",
+        "dfsph",
+        "--dx",
+        "0.04",
+        "--end-time",
+        "0.1",
+        "--checkpoint-every",
+        "0.05",
+    ];
+    restarts_match("dfsph", &dfsph, &[(2, true), (4, false), (1, false)]);
 }
 
 /// Runs `args` on 2 ranks with checkpoints, then restarts from the last checkpoint on each
@@ -245,4 +253,53 @@ fn a_distributed_blow_up_is_reported_once_with_its_files() {
     for file in ["blowup.txt", "blowup.vtu"] {
         assert!(out.join(file).is_file(), "{file}: {text}");
     }
+}
+
+/// What does not run on several ranks yet is refused before the first step, with a message
+/// naming it and what does run: IISPH's BiCGSTAB iteration.
+#[test]
+fn a_solver_option_that_does_not_run_distributed_is_refused() {
+    let out = folder("dam-break-mpi-bicgstab");
+    std::fs::create_dir_all(&out).unwrap();
+    let scene = include_str!("../../../data/scenes/dam-break-2d.ron");
+    let solver = scene
+        .find("    solver: Wcsph((")
+        .expect("the scene's solver");
+    let scene = format!(
+        "{}    solver: Iisph((iteration: Bicgstab(()))),\n)\n",
+        &scene[..solver]
+    );
+    let scene_file = out.join("bicgstab.ron");
+    std::fs::write(&scene_file, scene).unwrap();
+    let (alone, ranks) = (out.join("alone"), out.join("ranks"));
+    let args = |out: &Path| {
+        let args = [
+            "--scene",
+            scene_file.to_str().unwrap(),
+            "--dx",
+            "0.05",
+            "--end-time",
+            "0.05",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.map(str::to_owned)
+    };
+    // The scene runs on one process,
+    let output = launch::run(Command::new(APP).args(args(&alone)), TIMEOUT).unwrap();
+    assert!(output.status.success(), "{}", text(&output));
+    // and on two ranks is refused, once.
+    let args = args(&ranks);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let output = mpiexec(2, APP, &args, TIMEOUT).expect("mpiexec on the PATH");
+    let text = text(&output);
+    assert!(!output.status.success(), "{text}");
+    assert_eq!(
+        text.matches("IISPH's BiCGSTAB iteration does not run on several ranks yet")
+            .count(),
+        1,
+        "{text}"
+    );
+    assert!(text.contains("iteration: RelaxedJacobi"), "{text}");
 }

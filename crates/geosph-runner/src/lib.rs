@@ -76,4 +76,5 @@ pub use options::Ranks;
 pub use output::scene_outputs;
 pub use probes::PressureProbes;
 pub use run::{RunError, RunOptions, Summary, run};
+pub use run_loop::build_solver;
 pub use summary::RankLoad;

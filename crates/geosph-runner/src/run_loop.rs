@@ -27,7 +27,8 @@ mod frames;
 mod ranks;
 mod start;
 use ranks::RankView;
-use start::{build_solver, open_output, progress_bar, restore};
+pub use start::build_solver;
+use start::{open_output, progress_bar, restore};
 
 /// One run in progress: the particles, the solver, the output and where the time loop stands.
 ///
@@ -148,13 +149,8 @@ impl<'a, const D: usize> RunLoop<'a, D> {
                     source,
                 })?,
         };
-        let ranks = ranks::distribute(options, solver.as_mut(), &mut fluid).map_err(|source| {
-            RunError::Solver {
-                time: 0.0,
-                step: 0,
-                source,
-            }
-        })?;
+        let ranks = ranks::distribute(options, solver.as_mut(), &mut fluid)
+            .map_err(RunError::NotDistributed)?;
         // Rank 0 of a distributed run writes the output and shows the progress.
         let root = ranks.as_ref().is_none_or(RankView::is_root);
         let columns = [

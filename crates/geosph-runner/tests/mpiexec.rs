@@ -1,18 +1,23 @@
-//! Issue 26's validation: the 2D dam break and the soil collapse on 1, 2 and 4 ranks under
-//! `mpiexec`, every particle against the same run in one process (`geosph-distributed-check`;
+//! Issue 26's validation: the 2D dam break (WCSPH, PCISPH, IISPH and DFSPH) and the soil
+//! collapse on 1, 2 and 4 ranks under `mpiexec`, every particle against the same run in one
+//! process (`geosph-distributed-check`;
 //! its documentation states the round-off bounds). Needs the feature `mpi` and an MPI
 //! installation (`.ci/run` installs MPICH).
 #![cfg(feature = "mpi")]
 
-use std::time::Duration;
-
-use geosph_mpi::launch::{mpiexec, text};
+use geosph_mpi::launch::{APP_TIMEOUT as TIMEOUT, mpiexec, text};
 
 const CHECK: &str = env!("CARGO_BIN_EXE_geosph-distributed-check");
 
-/// A run takes a few seconds; a rank stuck in a collective fails the test instead of hanging
-/// CI.
-const TIMEOUT: Duration = Duration::from_secs(600);
+/// The cases of the check, by name.
+const CASES: [&str; 6] = [
+    "dam-break-2d",
+    "dam-break-2d/pcisph",
+    "dam-break-2d/iisph",
+    "dam-break-2d/dfsph",
+    "dam-break-2d-options",
+    "granular-collapse",
+];
 
 #[test]
 fn dam_break_and_soil_collapse_on_1_2_and_4_ranks_match_one_process() {
@@ -22,7 +27,7 @@ fn dam_break_and_soil_collapse_on_1_2_and_4_ranks_match_one_process() {
         let text = text(&output);
         println!("{text}");
         assert!(output.status.success(), "{ranks} ranks:\n{text}");
-        for case in ["dam-break-2d", "dam-break-2d-options", "granular-collapse"] {
+        for case in CASES {
             assert!(
                 text.contains(&format!("{case} dx ="))
                     && text.contains(&format!("on {ranks} ranks")),
@@ -30,7 +35,11 @@ fn dam_break_and_soil_collapse_on_1_2_and_4_ranks_match_one_process() {
             );
         }
         assert!(!text.contains("FAILED"), "{text}");
-        assert_eq!(text.matches("largest differences").count(), 3, "{text}");
+        assert_eq!(
+            text.matches("largest differences").count(),
+            CASES.len(),
+            "{text}"
+        );
     }
 }
 

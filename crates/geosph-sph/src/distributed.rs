@@ -79,10 +79,11 @@ pub struct Distribution<const D: usize> {
     counts: ExchangeCounts,
 }
 
-/// A transport and the wall time spent in it.
+/// A transport, the wall time spent in it and the halo refreshes made through it.
 struct Link {
     transport: Box<dyn Transport>,
     seconds: f64,
+    refreshes: usize,
 }
 
 impl<const D: usize> Distribution<D> {
@@ -121,6 +122,7 @@ impl<const D: usize> Distribution<D> {
             link: Mutex::new(Link {
                 transport,
                 seconds: 0.0,
+                refreshes: 0,
             }),
             cells,
             owned: 0,
@@ -168,8 +170,10 @@ impl<const D: usize> Distribution<D> {
 
     /// What the exchanges did so far.
     pub fn counts(&self) -> ExchangeCounts {
+        let link = self.link();
         ExchangeCounts {
-            seconds: self.link().seconds,
+            seconds: link.seconds,
+            refreshes: link.refreshes,
             ..self.counts
         }
     }
@@ -202,6 +206,29 @@ impl<const D: usize> Distribution<D> {
         let result = f(link.transport.as_ref());
         link.seconds += start.elapsed().as_secs_f64();
         result
+    }
+
+    /// The halo's records of the last set-up's plan, `halo` of `width` values each, that
+    /// `pack(i, record)` appends for owned particle i on the rank that owns it (collective);
+    /// record k is that of halo particle `owned + k`.
+    ///
+    /// # Panics
+    /// If the other ranks' halo plans changed without a set-up here (another number of
+    /// records arrived).
+    fn receive_halo(
+        &self,
+        halo: usize,
+        width: usize,
+        pack: &mut dyn FnMut(usize, &mut Vec<Real>),
+    ) -> Vec<Real> {
+        let received = self.timed(|transport| transport.exchange(&self.halo, width, pack));
+        assert_eq!(
+            received.values.len(),
+            halo * width,
+            "a halo refresh must bring the particles of the last set-up"
+        );
+        self.link().refreshes += 1;
+        received.values
     }
 
     /// The largest |x − x_set-up|² of a particle this rank owns.
@@ -380,20 +407,24 @@ impl<const D: usize> Distribution<D> {
     /// # Panics
     /// If the other ranks' halo plans changed without a set-up here.
     pub fn refresh(&mut self, particles: &mut Particles<D>) {
-        let width = particles.record_width();
-        let received = self.timed(|transport| {
-            transport.exchange(&self.halo, width, &mut |i, record| {
-                particles.pack(i, record)
-            })
-        });
-        assert_eq!(
-            received.values.len(),
-            (particles.len() - self.owned) * width,
-            "a halo refresh must bring the particles of the last set-up"
-        );
-        for (k, record) in received.values.chunks_exact(width).enumerate() {
+        let (halo, width) = (particles.len() - self.owned, particles.record_width());
+        let records = self.receive_halo(halo, width, &mut |i, record| particles.pack(i, record));
+        for (k, record) in records.chunks_exact(width).enumerate() {
             particles.unpack(self.owned + k, record);
         }
-        self.counts.refreshes += 1;
+    }
+
+    /// Overwrites the halo's entries of `values`, one per particle of this rank's set (its
+    /// own, then its halo), with the values of the particles the other ranks own
+    /// (collective): for a field that a pass computed for every particle, right on the owned
+    /// ones only, and that the next pass reads from neighbours (a pressure solve's p/ρ²).
+    ///
+    /// # Panics
+    /// If `values` holds fewer than the owned particles, or the other ranks' halo plans
+    /// changed without a set-up here.
+    pub fn refresh_values(&self, values: &mut [Real]) {
+        let (own, halo) = values.split_at_mut(self.owned);
+        let received = self.receive_halo(halo.len(), 1, &mut |i, record| record.push(own[i]));
+        halo.copy_from_slice(&received);
     }
 }

@@ -167,7 +167,7 @@ pub trait Solver<const D: usize>: Send {
         _transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
         Err(SolverError::NotDistributed(format!(
-            "the {} solver does not run on several ranks yet: WCSPH and soil do",
+            "the {} solver does not run on several ranks yet",
             self.name()
         )))
     }

@@ -1,12 +1,12 @@
 //! Divergence-free SPH (Bender & Koschier 2015, 2017).
 
-use geosph_core::{Particles, Permutation, Real};
+use geosph_core::{Particles, PerParticle, Permutation, Real};
 use geosph_kernels::Kernel;
 use rayon::prelude::*;
 
 use super::system::MIN_LEN;
 use super::{PressureMethod, PressureSolveSettings, PressureSystem, Scratch, SolveReport};
-use geosph_sph::{StateArrays, StateError};
+use geosph_sph::{SolverError, StateArrays, StateError};
 
 /// DFSPH: two velocity-space solvers that share the per-particle factor α_i = ρ_i / d_i
 /// (Bender & Koschier 2017, IEEE TVCG 23:1193, eq. 9, with d_i of
@@ -155,7 +155,13 @@ impl Dfsph {
                     *term = *p / (rho_i * rho_i);
                 });
         }
+        // In a distributed run p/ρ² is refreshed on the halo before each velocity update:
+        // the owned particles' neighbours' pressure accelerations read it there. The
+        // velocities then stay right within a support of the owned particles, which is as
+        // far as the next residual reads them.
+        system.lists.exchange_halo_values(pressure_term);
         apply(pressure_term, None, velocity, summed);
+        let owned = system.owned();
         // The increment's scale, the error's, and the bound on any one residual (only the
         // density solve bounds a particle's compression).
         let (scale, error_scale, max_residual) = match kind {
@@ -193,7 +199,11 @@ impl Dfsph {
                         *term = *dp / (rho_i * rho_i);
                     });
             }
-            let (mean, max) = super::residual_error(residual, diagonal, settings.negative_pressure);
+            let (mean, max) = system.error_over_ranks(super::residual_error(
+                &residual[..owned],
+                &diagonal[..owned],
+                settings.negative_pressure,
+            ));
             report.error = mean * error_scale;
             if report.iterations >= settings.min_iterations
                 && report.error <= target
@@ -202,6 +212,7 @@ impl Dfsph {
                 break;
             }
             report.iterations += 1;
+            system.lists.exchange_halo_values(pressure_term);
             apply(pressure_term, Some(increment), velocity, summed);
         }
         report
@@ -285,12 +296,56 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
         report
     }
 
-    fn permute(&mut self, permutation: &Permutation) {
-        for summed in [&mut self.density_pressure, &mut self.divergence_pressure] {
-            if summed.len() == permutation.len() {
-                permutation.apply(summed);
-            }
+    fn carried(&mut self) -> Option<&mut dyn PerParticle> {
+        Some(self)
+    }
+
+    /// Both warm starts as the first steps on one process make them: the constant-density
+    /// solve's from the initial pressure, the divergence solve's from zero (unless a restart
+    /// restored them), so that they can move with the particles from the first set-up on.
+    fn distribute(&mut self, fluid: &Particles<D>) -> Result<(), SolverError> {
+        let pressure = fluid.pressure.as_ref().expect("pressure is enabled");
+        if self.density_pressure.len() != pressure.len() {
+            self.density_pressure.clone_from(pressure);
         }
+        self.divergence_pressure.resize(pressure.len(), 0.0);
+        Ok(())
+    }
+
+    fn save_state(&self, arrays: &mut StateArrays, owned: usize) {
+        let upto = |summed: &[Real]| summed.len().min(owned);
+        let (density, divergence) = (&self.density_pressure, &self.divergence_pressure);
+        arrays.push("density_pressure", &density[..upto(density)]);
+        arrays.push("divergence_pressure", &divergence[..upto(divergence)]);
+    }
+
+    fn restore_state(&mut self, arrays: &mut StateArrays) -> Result<(), StateError> {
+        self.density_pressure = arrays.take("density_pressure")?;
+        self.divergence_pressure = arrays.take("divergence_pressure")?;
+        Ok(())
+    }
+}
+
+/// The two warm starts of each particle, which travel with it (the increments are the
+/// current iteration's only). Before the first step on one process a warm start may be
+/// empty (not yet made): reordering and thinning leave it so.
+impl PerParticle for Dfsph {
+    fn record_width(&self) -> usize {
+        2
+    }
+
+    fn pack(&self, i: usize, record: &mut Vec<Real>) {
+        record.extend_from_slice(&[self.density_pressure[i], self.divergence_pressure[i]]);
+    }
+
+    fn unpack(&mut self, i: usize, record: &[Real]) {
+        self.density_pressure[i] = record[0];
+        self.divergence_pressure[i] = record[1];
+    }
+
+    fn resize(&mut self, n: usize) {
+        self.density_pressure.resize(n, 0.0);
+        self.divergence_pressure.resize(n, 0.0);
     }
 
     fn retain(&mut self, keep: &[bool]) {
@@ -301,14 +356,11 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
         }
     }
 
-    fn save_state(&self, arrays: &mut StateArrays) {
-        arrays.push("density_pressure", &self.density_pressure);
-        arrays.push("divergence_pressure", &self.divergence_pressure);
-    }
-
-    fn restore_state(&mut self, arrays: &mut StateArrays) -> Result<(), StateError> {
-        self.density_pressure = arrays.take("density_pressure")?;
-        self.divergence_pressure = arrays.take("divergence_pressure")?;
-        Ok(())
+    fn permute(&mut self, permutation: &Permutation) {
+        for summed in [&mut self.density_pressure, &mut self.divergence_pressure] {
+            if summed.len() == permutation.len() {
+                permutation.apply(summed);
+            }
+        }
     }
 }

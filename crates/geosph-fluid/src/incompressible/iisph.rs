@@ -3,6 +3,7 @@
 
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
+use geosph_sph::SolverError;
 use rayon::prelude::*;
 
 use super::system::MIN_LEN;
@@ -56,6 +57,15 @@ impl Default for Iisph {
 
 impl<const D: usize> PressureMethod<D> for Iisph {
     const NAME: &'static str = "iisph";
+
+    fn distribute(&mut self, _fluid: &Particles<D>) -> Result<(), SolverError> {
+        match self.iteration {
+            PressureIteration::RelaxedJacobi => Ok(()),
+            PressureIteration::Bicgstab(_) => Err(SolverError::NotDistributed(
+                "IISPH's BiCGSTAB iteration does not run on several ranks yet: use `iteration: RelaxedJacobi` (the default)".into(),
+            )),
+        }
+    }
 
     fn correct_density<K: Kernel<D>>(
         &mut self,
@@ -169,6 +179,10 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>>(
                 *term = pressure[i] / (rho_i * rho_i);
             });
     }
+    // In a distributed run p/ρ² is refreshed on the halo after every update, as the next
+    // pass (the pressure acceleration of the owned particles' neighbours) reads it there.
+    system.lists.exchange_halo_values(pressure_term);
+    let owned = system.owned();
 
     let mut report = SolveReport::default();
     while report.iterations < settings.max_iterations {
@@ -190,15 +204,15 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>>(
                 *term = *p / (rho_i * rho_i);
             });
         report.iterations += 1;
-        let (mean, max) = match stop {
-            _ if settings.negative_pressure => {
-                super::mean_and_max_absolute(divergence, system.diagonal())
-            }
-            StopOn::Compression => super::mean_and_max_positive(divergence, system.diagonal()),
+        system.lists.exchange_halo_values(pressure_term);
+        let (predicted, diagonal) = (&divergence[..owned], &system.diagonal()[..owned]);
+        let (mean, max) = system.error_over_ranks(match stop {
+            _ if settings.negative_pressure => super::mean_and_max_absolute(predicted, diagonal),
+            StopOn::Compression => super::mean_and_max_positive(predicted, diagonal),
             StopOn::Complementarity => {
-                super::complementarity_error(divergence, pressure, system.diagonal())
+                super::complementarity_error(predicted, &pressure[..owned], diagonal)
             }
-        };
+        });
         report.error = mean / rho0;
         if report.iterations >= settings.min_iterations
             && report.error <= settings.target_density_error

@@ -30,15 +30,16 @@ pub use pcisph::Pcisph;
 pub use system::{DIAGONAL_FLOOR, PressureSystem, WallPressure};
 
 use geosph_boundary::WallParticles;
-use geosph_core::{Particles, Permutation, Real, Vector};
+use geosph_core::{Particles, PerParticle, Permutation, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::lattice::{
     lattice_gradient_factor, lattice_gradient_squares, lattice_jacobi_bound, lattice_kernel_sum,
 };
 use geosph_sph::{
-    ShiftingInput, Solver, SolverError, SolverState, StateArrays, StateError, StepReport,
-    WallMotion, compression, event_step, keep_out_of_walls, max_speed, restore_wall_motion,
+    Distribution, ShiftingInput, Solver, SolverError, SolverState, StateArrays, StateError,
+    StepReport, Transport, WallMotion, compression, event_step, keep_out_of_walls, max_speed,
+    restore_wall_motion,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -156,6 +157,8 @@ impl<const D: usize> Scratch<D> {
         dt: Real,
     ) {
         let n = fluid.len();
+        let mut speed = [max_speed(&fluid.velocity[..system.lists.owned(n)])];
+        system.lists.max_over_ranks(&mut speed);
         self.shift.resize(n, Vector::zeros());
         let Some(shifting) = &system.shifting else {
             return;
@@ -173,7 +176,7 @@ impl<const D: usize> Scratch<D> {
             volume: &self.volume,
             wall_position: &system.walls.position,
             wall_volume: &system.walls.volume,
-            max_speed: max_speed(&fluid.velocity),
+            max_speed: speed[0],
             time_step: dt,
         };
         shifting.velocity(
@@ -214,19 +217,57 @@ pub trait PressureMethod<const D: usize>: Send {
         SolveReport::default()
     }
 
-    /// Reorders the method's own per-particle arrays.
-    fn permute(&mut self, _permutation: &Permutation) {}
+    /// The method's own state of each particle (a warm start), which is reordered and
+    /// thinned with the particles and, in a distributed run, moves between ranks with them
+    /// (`None`: it keeps none).
+    fn carried(&mut self) -> Option<&mut dyn PerParticle> {
+        None
+    }
 
-    /// Drops the entries of the particles `k` without `keep[k]` from the method's own
-    /// per-particle arrays.
-    fn retain(&mut self, _keep: &[bool]) {}
+    /// Readies the method to step `fluid` as one rank of a distributed run (every rank
+    /// still holds every particle), or names what of it does not run on several ranks.
+    fn distribute(&mut self, _fluid: &Particles<D>) -> Result<(), SolverError> {
+        Ok(())
+    }
 
-    /// Adds the method's own per-particle warm-start arrays to a checkpoint's `arrays`.
-    fn save_state(&self, _arrays: &mut StateArrays) {}
+    /// Adds the method's own per-particle warm-start arrays of the first `owned` particles
+    /// (all of them on one process) to a checkpoint's `arrays`.
+    fn save_state(&self, _arrays: &mut StateArrays, _owned: usize) {}
 
     /// Takes the method's warm-start arrays back from `arrays` (a restart).
     fn restore_state(&mut self, _arrays: &mut StateArrays) -> Result<(), StateError> {
         Ok(())
+    }
+}
+
+/// The per-particle state of a method that keeps none.
+struct NoParticleState;
+
+impl PerParticle for NoParticleState {
+    fn record_width(&self) -> usize {
+        0
+    }
+
+    fn pack(&self, _i: usize, _record: &mut Vec<Real>) {}
+
+    fn unpack(&mut self, _i: usize, _record: &[Real]) {}
+
+    fn resize(&mut self, _n: usize) {}
+
+    fn retain(&mut self, _keep: &[bool]) {}
+
+    fn permute(&mut self, _permutation: &Permutation) {}
+}
+
+/// Runs `f` on the method's [carried](PressureMethod::carried) state (on an empty one if it
+/// keeps none).
+fn with_carried<const D: usize, M: PressureMethod<D>, T>(
+    method: &mut M,
+    f: impl FnOnce(&mut dyn PerParticle) -> T,
+) -> T {
+    match method.carried() {
+        Some(carried) => f(carried),
+        None => f(&mut NoParticleState),
     }
 }
 
@@ -268,7 +309,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Incompressible<D, K, M>
         system.lattice_gradient_squares = lattice_gradient_squares(&system.kernel, spacing);
         let mut method = method;
         let permutation = system.lists.sort(fluid)?;
-        method.permute(&permutation);
+        with_carried(&mut method, |carried| carried.permute(&permutation));
         system.update(fluid)?;
         let mut scratch = Scratch::default();
         scratch.resize(fluid.len());
@@ -287,14 +328,16 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Incompressible<D, K, M>
 
     /// The largest Δt for which no particle moves more than λ dx:
     /// |v|max Δt + ½ |a|max Δt² = λ dx, bounded by the viscous limit ⅛ h²/ν and
-    /// `max_time_step`.
-    fn stable_step(&self, fluid: &Particles<D>) -> Real {
+    /// `max_time_step`; |v|max over the `owned` particles of every rank.
+    fn stable_step(&self, fluid: &Particles<D>, owned: usize) -> Real {
         let reach = self.settings.cfl * self.spacing;
         // Moving walls (bodies) count as the flow does: a body must not outrun the step.
-        let speed = match self.motion {
+        let mut speed = [match self.motion {
             Some(_) => max_speed(&fluid.velocity).max(max_speed(&self.system.walls.velocity)),
-            None => max_speed(&fluid.velocity),
-        };
+            None => max_speed(&fluid.velocity[..owned]),
+        }];
+        self.system.lists.max_over_ranks(&mut speed);
+        let [speed] = speed;
         let acceleration = self.max_acceleration;
         let mut dt = if acceleration > 0.0 {
             (-speed + (speed * speed + 2.0 * acceleration * reach).sqrt()) / acceleration
@@ -330,9 +373,24 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         _time: Real,
         max_dt: Real,
     ) -> Result<StepReport, SolverError> {
+        // In a distributed run the particles from `owned` on are the halo: copies whose
+        // solves are right near the owned particles only. Before the first step (and after a
+        // checkpoint) the ranks set up; at every step's start the halo takes the owners'
+        // velocities and densities, which the last update and solve left right on the owned
+        // particles only. Limits and errors are over the owned particles, then over the ranks.
+        if self.system.lists.distribution().is_some() {
+            let (lists, method) = (&mut self.system.lists, &mut self.method);
+            if with_carried(method, |carried| {
+                lists.reorder_if_due(self.steps, fluid, carried)
+            })? {
+                self.system.update(fluid)?;
+            }
+            self.system.lists.exchange_halo(fluid);
+        }
         let n = fluid.len();
+        let owned = self.system.lists.owned(n);
         self.scratch.resize(n);
-        let dt = event_step(self.stable_step(fluid), max_dt);
+        let dt = event_step(self.stable_step(fluid, owned), max_dt);
 
         // v* into the spare buffer, which then swaps with v: the old velocity stays behind
         // for the acceleration bound below.
@@ -365,17 +423,18 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
             &self.system.lists,
             &self.system.kernel,
             &self.system.walls,
-            &mut fluid.position,
-            &mut fluid.velocity,
+            &mut fluid.position[..owned],
+            &mut fluid.velocity[..owned],
         );
         // Largest |Δv|/Δt of this step, for the next step's limit (ordered, thread-independent).
-        self.max_acceleration = fluid
-            .velocity
+        let mut largest = [fluid.velocity[..owned]
             .iter()
             .zip(&self.previous_velocity)
             .fold(self.system.gravity.norm(), |max: Real, (v, v0)| {
                 max.max((v - v0).norm() / dt)
-            });
+            })];
+        self.system.lists.max_over_ranks(&mut largest);
+        self.max_acceleration = largest[0];
 
         // Bodies move with the pressure of this step, before the lists and wall gradients
         // of the next are built.
@@ -383,14 +442,26 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
             motion.advance(dt, fluid, &mut self.system.walls)?;
         }
         self.steps += 1;
-        if let Some(permutation) = self.system.lists.sort_if_due(self.steps, fluid)? {
-            self.method.permute(&permutation);
+        // The Z-order sort when due; in a distributed run a set-up once a particle has moved
+        // a quarter of the halo's margin, else the halo's new positions from their owners:
+        // so the lists built next hold every pair near the owned particles.
+        let (lists, method) = (&mut self.system.lists, &mut self.method);
+        if !with_carried(method, |carried| {
+            lists.reorder_if_due(self.steps, fluid, carried)
+        })? {
+            lists.exchange_halo(fluid);
         }
         self.system.update(fluid)?;
+        self.scratch.resize(fluid.len());
         let divergence_solve =
             self.method
                 .after_update(&self.system, fluid, dt, &self.settings, &mut self.scratch);
-        let (mean, max) = compression(&fluid.density, self.system.rest_density);
+        let owned = self.system.lists.owned(fluid.len());
+        let (mean, max) = compression(&fluid.density[..owned], self.system.rest_density);
+        let (mean, max, wall_contacts) =
+            self.system
+                .lists
+                .figures_over_ranks(mean, max, owned, wall_contacts);
         Ok(StepReport {
             dt,
             iterations: density_solve.iterations,
@@ -406,6 +477,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
     }
 
     fn set_wall_motion(&mut self, motion: Box<dyn WallMotion<D>>) -> Result<(), SolverError> {
+        self.system.lists.single_process("a rigid body")?;
         self.system.lists.walls_move();
         self.motion = Some(motion);
         Ok(())
@@ -413,6 +485,37 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
 
     fn wall_motion(&self) -> Option<&dyn WallMotion<D>> {
         self.motion.as_deref()
+    }
+
+    /// The lists of one rank, with a halo margin of one support (so the halo is two cells
+    /// of two supports deep); the method's warm start moves with the particles.
+    fn distribute(
+        &mut self,
+        fluid: &mut Particles<D>,
+        transport: Box<dyn Transport>,
+    ) -> Result<(), SolverError> {
+        self.system
+            .lists
+            .single_process("distributing a run again")?;
+        if self.motion.is_some() {
+            return Err(SolverError::NotDistributed(
+                "rigid bodies do not run on several ranks yet".into(),
+            ));
+        }
+        self.method.distribute(fluid)?;
+        let margin = self.system.kernel.support_radius();
+        self.system
+            .lists
+            .distribute_with_margin(transport, margin)?;
+        Ok(())
+    }
+
+    fn distribution(&self) -> Option<&Distribution<D>> {
+        self.system.lists.distribution()
+    }
+
+    fn distribution_mut(&mut self) -> Option<&mut Distribution<D>> {
+        self.system.lists.distribution_mut()
     }
 
     fn sound_speed(&self) -> Real {
@@ -435,21 +538,27 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         fluid: &mut Particles<D>,
         keep: &[bool],
     ) -> Result<(), SolverError> {
+        self.system
+            .lists
+            .single_process("a particle leaving the domain (enlarge the scene's `domain`)")?;
         fluid.retain(keep);
-        self.method.retain(keep);
+        with_carried(&mut self.method, |carried| carried.retain(keep));
         self.system.update(fluid)?;
         Ok(())
     }
 
     /// The step count, the acceleration bound of the next step's Δt and the method's warm
-    /// start; the pressure warm start travels with the particles. Lists, densities and
+    /// start (in a distributed run, of the particles this rank owns, with the cut of the
+    /// cells); the pressure warm start travels with the particles. Lists, densities and
     /// diagonals are rebuilt exactly from the positions.
     fn save_state(&self) -> SolverState {
         let mut state = SolverState::new(self.name(), self.steps);
         state
             .arrays
             .push("max_acceleration", &[self.max_acceleration]);
-        self.method.save_state(&mut state.per_particle);
+        let owned = self.system.lists.owned(self.system.diagonal().len());
+        self.method.save_state(&mut state.per_particle, owned);
+        state.partition = self.system.lists.partition_state();
         state.wall_motion = self.motion.as_ref().map(|motion| motion.save_state());
         state
     }
@@ -459,10 +568,12 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         mut state: SolverState,
         fluid: &mut Particles<D>,
     ) -> Result<(), SolverError> {
+        self.system.lists.single_process("a restart")?;
         let steps = state.steps_of(self.name())?;
         let max_acceleration = state.arrays.take_value("max_acceleration")?;
         self.method.restore_state(&mut state.per_particle)?;
         restore_wall_motion(&mut self.motion, &state.wall_motion, &mut self.system.walls)?;
+        self.system.lists.restore_partition(state.partition);
         self.system.update(fluid)?;
         self.max_acceleration = max_acceleration;
         self.steps = steps;

@@ -274,6 +274,20 @@ impl<const D: usize, K: Kernel<D>> PressureSystem<D, K> {
         &self.diagonal
     }
 
+    /// The particles whose solves count: the first `owned` of the set (all of them on one
+    /// process; in a distributed run the rest are the halo).
+    pub(crate) fn owned(&self) -> usize {
+        self.lists.owned(self.diagonal.len())
+    }
+
+    /// A solve's mean and largest error over every rank's owned particles from this rank's
+    /// over its own ([`PairLists::figures_over_ranks`]; unchanged on one process), so that
+    /// every rank stops its iterations alike.
+    pub(crate) fn error_over_ranks(&self, (mean, max): (Real, Real)) -> (Real, Real) {
+        let (mean, max, _) = self.lists.figures_over_ranks(mean, max, self.owned(), 0);
+        (mean, max)
+    }
+
     /// The pressure acceleration
     /// a_i = −c [Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij + (2 p_i/ρ_i²) Σ_b m_b ∇_i W_ib]
     /// (Monaghan 1992, eq. 3.3, with mirrored wall pressure and the constant

@@ -1,13 +1,16 @@
-//! `geosph-distributed-check`: the 2D dam break of `data/scenes/dam-break-2d.ron` and the soil
-//! collapse of `data/scenes/granular-collapse.ron` (both coarser, and shorter) distributed over
-//! the ranks of `mpiexec`, against the same runs in one process, particle by particle.
+//! `geosph-distributed-check`: the 2D dam break of `data/scenes/dam-break-2d.ron` (with WCSPH
+//! as shipped and with PCISPH, IISPH and DFSPH) and the soil collapse of
+//! `data/scenes/granular-collapse.ron` (all coarser, and shorter) distributed over the ranks of
+//! `mpiexec`, against the same runs in one process, particle by particle.
 //!
 //! Every rank builds each scene and runs it twice: alone (the reference), and as one rank of
 //! the distributed run (the soil's geostatic stage runs in full on every rank first, then the
 //! run is shared). At the end the ranks gather their owned particles; every particle must be
 //! owned by exactly one rank and agree with the reference within round-off: |Δx| ≤ 10⁻⁹ dx,
-//! |Δv| ≤ 10⁻⁹ c (the sound or P-wave speed), |Δρ| ≤ 10⁻⁹ ρ₀ and, for soil, |Δσ| ≤ 10⁻⁹ of
-//! the solver's stress scale. The two runs differ only in the order in which each particle
+//! |Δv| ≤ 10⁻⁹ c (the sound or P-wave speed; for the incompressible solvers, which have
+//! none, the free-fall speed √(2 g H) of the column's height), |Δρ| ≤ 10⁻⁹ ρ₀ and, for soil,
+//! |Δσ| ≤ 10⁻⁹ of the solver's stress scale; and the runs must take as many steps and, for
+//! the incompressible solvers, as many pressure iterations. The two runs differ only in the order in which each particle
 //! sums its neighbours (which the lists' order sets); a neighbour missing from a halo changes
 //! the results by orders of magnitude more (a halo one cell deep: 7 × 10⁻⁵ dx in the dam
 //! break).
@@ -19,16 +22,17 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use geosph_core::{Particles, Real};
-use geosph_fluid::build_wcsph;
 use geosph_mpi::Ranks;
+use geosph_runner::build_solver;
 use geosph_scene::{Scene, SolverSpec, setup};
-use geosph_soil::build_soil;
 use geosph_sph::Solver;
 
-/// A case: the scene's text, the (from, to) changes made to it, dx and end time.
+/// A case: the scene's text, the (from, to) changes made to it, the solver that replaces the
+/// scene's (by its command-line name, with its defaults), dx and end time.
 type Case = (
     &'static str,
     &'static [(&'static str, &'static str)],
+    Option<&'static str>,
     Real,
     Real,
 );
@@ -46,8 +50,18 @@ const DAM_BREAK: &str = include_str!("../../../../data/scenes/dam-break-2d.ron")
 /// friction switching particle by particle amplify round-off, and one process perturbed by
 /// one ulp of x departs from itself by 10⁻⁶ dx at 0.1 s and 10⁻³ dx at 0.2 s
 /// (docs/parallel.md).
-const CASES: [Case; 3] = [
-    (DAM_BREAK, &[], 0.04, 0.3),
+/// The incompressible solvers run the dam break with their defaults, PCISPH and IISPH to
+/// 0.3 s, DFSPH to 0.1 s: its warm start switches on where a particle's residual before any
+/// pressure is positive, a switch that round-off flips near rest (one process whose x
+/// coordinates are changed by one part in 10¹⁵ departs from itself by 0.12 dx at 0.03 s),
+/// and the distributed run's round-off, 10⁻¹³ dx at 0.1 s, reaches 10⁻² dx by 0.3 s
+/// (docs/parallel.md). Their pressure solves refresh the halo's p/ρ² at every iteration and
+/// stop on errors reduced over the ranks, so an iteration more or less on one rank shows.
+const CASES: [Case; 6] = [
+    (DAM_BREAK, &[], None, 0.04, 0.3),
+    (DAM_BREAK, &[], Some("pcisph"), 0.04, 0.3),
+    (DAM_BREAK, &[], Some("iisph"), 0.04, 0.3),
+    (DAM_BREAK, &[], Some("dfsph"), 0.04, 0.1),
     (
         DAM_BREAK,
         &[
@@ -58,12 +72,14 @@ const CASES: [Case; 3] = [
                 "integrator: SymplecticEuler, shepard_every: 20, shifting: Some(()), xsph: 0.25,",
             ),
         ],
+        None,
         0.04,
         0.05,
     ),
     (
         include_str!("../../../../data/scenes/granular-collapse.ron"),
         &[],
+        None,
         0.005,
         0.04,
     ),
@@ -84,19 +100,21 @@ fn main() -> ExitCode {
     ranks.abort_on_panic();
     let result = arguments().and_then(|arguments| {
         let mut passed = true;
-        for (text, changes, dx, end) in CASES {
+        for (text, changes, solver, dx, end) in CASES {
             let mut text = text.to_owned();
             for (from, to) in changes {
                 text = text.replacen(from, to, 1);
             }
-            let name = Scene::from_ron(&text)
-                .map_err(|error| error.to_string())?
-                .name;
-            if arguments.only.as_ref().is_some_and(|only| *only != name) {
+            let mut scene = Scene::from_ron(&text).map_err(|error| error.to_string())?;
+            if let Some(name) = solver {
+                scene.solver = SolverSpec::from_name(name).expect("a solver's name");
+            }
+            let label = case_label(&scene);
+            if arguments.only.as_ref().is_some_and(|only| *only != label) {
                 continue;
             }
-            let (dx, end) = (dx * arguments.dx_scale, end * arguments.end_scale);
-            passed &= check(&ranks, &text, dx, end)?;
+            scene.dx = dx * arguments.dx_scale;
+            passed &= check(&ranks, &scene, end * arguments.end_scale)?;
         }
         Ok(passed)
     });
@@ -113,6 +131,15 @@ fn main() -> ExitCode {
     }
 }
 
+/// The name of a case: the scene's, with the solver's where it replaces the scene's own
+/// (`dam-break-2d/dfsph`).
+fn case_label(scene: &Scene) -> String {
+    match scene.solver {
+        SolverSpec::Wcsph(_) | SolverSpec::Soil(_) => scene.name.clone(),
+        _ => format!("{}/{}", scene.name, scene.solver.name()),
+    }
+}
+
 /// The command line: factors on each case's dx and end time, and the one case to run.
 struct Arguments {
     dx_scale: Real,
@@ -120,7 +147,8 @@ struct Arguments {
     only: Option<String>,
 }
 
-/// `--dx-scale`, `--end-scale` and `--only <scene name>` from the command line.
+/// `--dx-scale`, `--end-scale` and `--only <case>` (a scene's name, with `/<solver>` where
+/// the case replaces its solver) from the command line.
 fn arguments() -> Result<Arguments, String> {
     let mut parsed = Arguments {
         dx_scale: 1.0,
@@ -156,36 +184,31 @@ fn build(scene: &Scene) -> Result<(Particles<2>, Box<dyn Solver<2>>), String> {
     let (mut particles, inputs) = setup::build::<2>(scene)
         .map_err(|error| error.to_string())?
         .split();
-    let mut solver = match &scene.solver {
-        SolverSpec::Wcsph(config) => {
-            build_wcsph(config, inputs, &mut particles).map_err(|error| error.to_string())?
-        }
-        SolverSpec::Soil(config) => {
-            build_soil(config, inputs, &mut particles).map_err(|error| error.to_string())?
-        }
-        _ => return Err("the check runs WCSPH and soil scenes".into()),
-    };
+    let mut solver =
+        build_solver(scene, inputs, &mut particles).map_err(|error| error.to_string())?;
     solver
         .initial_stage(&mut particles)
         .map_err(|error| error.to_string())?;
     Ok((particles, solver))
 }
 
-/// Steps `solver` to `end`; returns the steps taken.
+/// Steps `solver` to `end`; returns the steps taken and the pressure iterations of all (the
+/// constant-density and divergence solves').
 fn run(
     solver: &mut dyn Solver<2>,
     particles: &mut Particles<2>,
     end: Real,
-) -> Result<usize, String> {
-    let (mut time, mut steps) = (0.0, 0);
+) -> Result<(usize, usize), String> {
+    let (mut time, mut steps, mut iterations) = (0.0, 0, 0);
     while time < end * (1.0 - 1e-12) {
         let report = solver
             .step(particles, time, end - time)
             .map_err(|error| format!("step {steps}: {error}"))?;
         time += report.dt;
         steps += 1;
+        iterations += report.iterations + report.divergence_iterations;
     }
-    Ok(steps)
+    Ok((steps, iterations))
 }
 
 /// Values per particle gathered: id, x (2), v (2), ρ, σ (xx, yy, zz, xy).
@@ -201,30 +224,33 @@ fn record(particles: &Particles<2>, i: usize, out: &mut Vec<Real>) {
     out.extend_from_slice(&[s[(0, 0)], s[(1, 1)], s[(2, 2)], s[(0, 1)]]);
 }
 
-/// Runs the scene `text` at `dx` to `end` alone and distributed; true if they agree.
-fn check(ranks: &Arc<Ranks>, text: &str, dx: Real, end: Real) -> Result<bool, String> {
-    let mut scene = Scene::from_ron(text).map_err(|error| error.to_string())?;
-    scene.dx = dx;
+/// Runs `scene` to `end` alone and distributed; true if they agree.
+fn check(ranks: &Arc<Ranks>, scene: &Scene, end: Real) -> Result<bool, String> {
+    let dx = scene.dx;
     let (rank, size) = (ranks.rank(), ranks.size());
 
-    let (mut reference, mut solver) = build(&scene)?;
+    let (mut reference, mut solver) = build(scene)?;
     let rest_density = reference.mass[0] / dx.powi(2);
-    let wave_speed = solver.sound_speed();
-    let height = setup::build::<2>(&scene)
+    let height = setup::build::<2>(scene)
         .map_err(|error| error.to_string())?
         .fluid_height;
-    let stress_scale = solver.stress_scale(9.81, height).unwrap_or(1.0);
+    let gravity = 9.81;
+    let wave_speed = match solver.sound_speed() {
+        0.0 => (2.0 * gravity * height).sqrt(),
+        c => c,
+    };
+    let stress_scale = solver.stress_scale(gravity, height).unwrap_or(1.0);
     let start = std::time::Instant::now();
-    let reference_steps = run(solver.as_mut(), &mut reference, end)?;
+    let (reference_steps, reference_iterations) = run(solver.as_mut(), &mut reference, end)?;
     let reference_seconds = start.elapsed().as_secs_f64();
 
-    let (mut particles, mut solver) = build(&scene)?;
+    let (mut particles, mut solver) = build(scene)?;
     let total = particles.len();
     solver
         .distribute(&mut particles, Box::new(Arc::clone(ranks)))
         .map_err(|error| error.to_string())?;
     let start = std::time::Instant::now();
-    let steps = run(solver.as_mut(), &mut particles, end)?;
+    let (steps, iterations) = run(solver.as_mut(), &mut particles, end)?;
     let seconds = start.elapsed().as_secs_f64();
     let distribution = solver.distribution().expect("distributed");
     let (owned, counts) = (distribution.owned(), distribution.counts());
@@ -276,11 +302,11 @@ fn check(ranks: &Arc<Ranks>, text: &str, dx: Real, end: Real) -> Result<bool, St
     }
     let once = seen.iter().all(|&count| count == 1);
     let agree = largest.iter().all(|&value| value <= ROUND_OFF);
-    let same_steps = steps == reference_steps;
+    let same_steps = steps == reference_steps && iterations == reference_iterations;
     if rank == 0 {
         println!(
-            "{} dx = {dx} m to t = {end} s on {size} ranks: {total} particles, {steps} steps (one process: {reference_steps} steps, {reference_seconds:.2} s)",
-            scene.name
+            "{} dx = {dx} m to t = {end} s on {size} ranks: {total} particles, {steps} steps, {iterations} iterations (one process: {reference_steps} steps, {reference_iterations} iterations, {reference_seconds:.2} s)",
+            case_label(scene)
         );
         for (r, load) in loads.values.chunks_exact(6).enumerate() {
             println!(
@@ -302,7 +328,7 @@ fn check(ranks: &Arc<Ranks>, text: &str, dx: Real, end: Real) -> Result<bool, St
             println!("FAILED: the distributed run departs from one process beyond round-off");
         }
         if !same_steps {
-            println!("FAILED: the distributed run took another number of steps");
+            println!("FAILED: the distributed run took another number of steps or iterations");
         }
     }
     Ok(once && agree && same_steps)

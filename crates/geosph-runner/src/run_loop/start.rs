@@ -16,8 +16,9 @@ use crate::observer::Observer;
 use crate::options::RunOptions;
 use crate::output::RunOutput;
 
-/// The solver the scene declares, and nothing it does not.
-pub(super) fn build_solver<const D: usize>(
+/// The solver the scene declares (built for `fluid`, the particles of its set-up), and
+/// nothing it does not.
+pub fn build_solver<const D: usize>(
     scene: &Scene,
     inputs: SphSetup<D>,
     fluid: &mut Particles<D>,

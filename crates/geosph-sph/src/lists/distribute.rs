@@ -13,22 +13,40 @@ use crate::state::PartitionState;
 impl<const D: usize> PairLists<D> {
     /// Makes these the lists of one rank of `transport`: from the next
     /// [`PairLists::reorder_if_due`] on, the particles are this rank's own followed by its
-    /// halo. Needs a Verlet skin (the halo's margin between set-ups). A cut restored with a
-    /// checkpoint ([`PairLists::restore_partition`]) is used on as many ranks.
+    /// halo. Needs a Verlet skin (the halo's margin between set-ups); exact lists take
+    /// [`PairLists::distribute_with_margin`]. A cut restored with a checkpoint
+    /// ([`PairLists::restore_partition`]) is used on as many ranks.
     ///
     /// # Panics
     /// If the lists are already distributed.
     pub fn distribute(&mut self, transport: Box<dyn Transport>) -> Result<(), PartitionError> {
+        self.distribute_with_margin(transport, self.skin)
+    }
+
+    /// [`PairLists::distribute`] with the halo's `margin` (positive) in place of the skin: the
+    /// cells are the support plus `margin` wide, and a set-up is due once a particle has moved
+    /// a quarter of it. For exact lists (no skin), which are rebuilt at every update: a
+    /// [`PairLists::reorder_if_due`] right before each update keeps every particle within
+    /// a quarter of the margin of where it was at the last set-up whenever lists are built,
+    /// however far a step moves it.
+    ///
+    /// # Panics
+    /// If the lists are already distributed.
+    pub fn distribute_with_margin(
+        &mut self,
+        transport: Box<dyn Transport>,
+        margin: Real,
+    ) -> Result<(), PartitionError> {
         assert!(
             self.distribution.is_none(),
             "the lists are already distributed"
         );
-        let radius = self.support_radius + self.skin;
+        let radius = self.support_radius + margin;
         self.distribution = Some(Distribution::new(
             transport,
             self.domain.clone(),
             radius,
-            self.skin,
+            margin,
             self.restored_partition.take(),
         )?);
         self.valid = false;
@@ -130,6 +148,14 @@ impl<const D: usize> PairLists<D> {
     pub fn exchange_halo(&mut self, particles: &mut Particles<D>) {
         if let Some(distribution) = &mut self.distribution {
             distribution.refresh(particles);
+        }
+    }
+
+    /// Overwrites the halo's entries of `values` (one per particle of the set, owned and
+    /// halo) with the owners' ([`Distribution::refresh_values`]; nothing on one process).
+    pub fn exchange_halo_values(&self, values: &mut [Real]) {
+        if let Some(distribution) = &self.distribution {
+            distribution.refresh_values(values);
         }
     }
 
