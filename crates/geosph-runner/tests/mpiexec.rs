@@ -10,10 +10,11 @@ use geosph_mpi::launch::{APP_TIMEOUT as TIMEOUT, mpiexec, text};
 const CHECK: &str = env!("CARGO_BIN_EXE_geosph-distributed-check");
 
 /// The cases of the check, by name.
-const CASES: [&str; 6] = [
+const CASES: [&str; 7] = [
     "dam-break-2d",
     "dam-break-2d/pcisph",
     "dam-break-2d/iisph",
+    "dam-break-2d/iisph-bicgstab",
     "dam-break-2d/dfsph",
     "dam-break-2d-options",
     "granular-collapse",

@@ -3,7 +3,6 @@
 
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
-use geosph_sph::SolverError;
 use rayon::prelude::*;
 
 use super::system::MIN_LEN;
@@ -57,15 +56,6 @@ impl Default for Iisph {
 
 impl<const D: usize> PressureMethod<D> for Iisph {
     const NAME: &'static str = "iisph";
-
-    fn distribute(&mut self, _fluid: &Particles<D>) -> Result<(), SolverError> {
-        match self.iteration {
-            PressureIteration::RelaxedJacobi => Ok(()),
-            PressureIteration::Bicgstab(_) => Err(SolverError::NotDistributed(
-                "IISPH's BiCGSTAB iteration does not run on several ranks yet: use `iteration: RelaxedJacobi` (the default)".into(),
-            )),
-        }
-    }
 
     fn correct_density<K: Kernel<D>>(
         &mut self,

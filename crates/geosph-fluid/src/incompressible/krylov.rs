@@ -120,31 +120,52 @@ impl KrylovScratch {
 
 /// The chunks' partial sums, added in order.
 fn total(partial: &[[Real; 2]]) -> [Real; 2] {
-    partial
-        .iter()
-        .fold([0.0; 2], |[a, b], [x, y]| [a + x, b + y])
+    total_of(partial.iter().map(|sum| sum.as_slice()))
+}
+
+/// Pairs of sums added in order.
+fn total_of<'a>(sums: impl Iterator<Item = &'a [Real]>) -> [Real; 2] {
+    sums.fold([0.0; 2], |[a, b], sum| [a + sum[0], b + sum[1]])
 }
 
 /// The linear part of the solve's operator and its sums.
+///
+/// In a distributed run the rows from `owned` on are the halo's: the operator's input is
+/// refreshed there before each product (its pressure acceleration reads the neighbours'),
+/// the dot products and norms sum the owned rows only and are combined over the ranks in rank
+/// order, so every rank takes the same α, ω and stopping decisions.
 struct Operator<'a, const D: usize, K: Kernel<D>> {
     system: &'a PressureSystem<D, K>,
     mass: &'a [Real],
     dt: Real,
+    owned: usize,
 }
 
 impl<const D: usize, K: Kernel<D>> Operator<'_, D, K> {
+    /// Sums of this rank's chunks, combined over the ranks in rank order (unchanged on one
+    /// process).
+    fn over_ranks(&self, local: [Real; 2]) -> [Real; 2] {
+        let lists = &self.system.lists;
+        match lists.distribution() {
+            None => local,
+            Some(_) => total_of(lists.gather_over_ranks(&local).chunks_exact(2)),
+        }
+    }
+
     /// y_i = Δt² (Σ_j m_j (a_i − a_j)·∇_i W_ij + a_i·Σ_b m_b ∇_i W_ib) with a the pressure
-    /// acceleration of π = `x`, where `rows(i)` (0 elsewhere); returns ⟨y, y⟩ and ⟨y, w⟩.
+    /// acceleration of π = `x` (its halo entries refreshed first), where `rows(i)` (0
+    /// elsewhere); returns ⟨y, y⟩ and ⟨y, w⟩ over every rank's owned rows.
     fn apply(
         &self,
-        x: &[Real],
+        x: &mut [Real],
         rows: impl Fn(usize) -> bool + Sync,
         acceleration: &mut [Vector<D>],
         y: &mut [Real],
         w: &[Real],
         partial: &mut [[Real; 2]],
     ) -> [Real; 2] {
-        let (system, mass, dt) = (self.system, self.mass, self.dt);
+        let (system, mass, dt, owned) = (self.system, self.mass, self.dt, self.owned);
+        system.lists.exchange_halo_values(x);
         system.pressure_acceleration(mass, x, acceleration);
         let acceleration = &*acceleration;
         y.par_chunks_mut(CHUNK)
@@ -159,11 +180,13 @@ impl<const D: usize, K: Kernel<D>> Operator<'_, D, K> {
                     } else {
                         0.0
                     };
-                    sum[0] += *y_i * *y_i;
-                    sum[1] += *y_i * w[i];
+                    if i < owned {
+                        sum[0] += *y_i * *y_i;
+                        sum[1] += *y_i * w[i];
+                    }
                 }
             });
-        total(partial)
+        self.over_ranks(total(partial))
     }
 }
 
@@ -201,7 +224,13 @@ impl Bicgstab {
         let free = settings.negative_pressure;
         let beta = self.density_relaxation;
         let tolerated = settings.max_compression * rho0;
-        let operator = Operator { system, mass, dt };
+        let owned = system.owned();
+        let operator = Operator {
+            system,
+            mass,
+            dt,
+            owned,
+        };
 
         // The source b_i and the active set with the warm start.
         {
@@ -237,12 +266,13 @@ impl Bicgstab {
                 });
         }
         let [source_norm, _] = {
-            let source = &work.source;
+            let source = &work.source[..owned];
             work.partial
                 .par_iter_mut()
                 .zip(source.par_chunks(CHUNK))
                 .for_each(|(sum, b)| *sum = [b.iter().map(|b| b * b).sum(), 0.0]);
-            total(&work.partial)
+            let chunks = owned.div_ceil(CHUNK);
+            operator.over_ranks(total(&work.partial[..chunks]))
         };
         let target = self.tolerance * self.tolerance * source_norm;
 
@@ -272,7 +302,7 @@ impl Bicgstab {
             );
             let compressed = settings.target_density_error * rho0;
             let mut changed = false;
-            for i in 0..n {
+            for i in 0..owned {
                 let active = inverse_diagonal[i] != 0.0;
                 if active && unknown[i] <= 0.0 {
                     inverse_diagonal[i] = 0.0;
@@ -282,19 +312,24 @@ impl Bicgstab {
                     changed = true;
                 }
             }
-            if !changed {
+            // Every rank goes on while any rank's set changed.
+            let mut changed = [Real::from(u8::from(changed))];
+            system.lists.max_over_ranks(&mut changed);
+            if changed[0] == 0.0 {
                 break;
             }
         }
 
         // Mean predicted error over ρ₀, from the kept residual.
-        report.error =
-            work.residual.iter().map(|r| r.abs()).sum::<Real>() / (n.max(1) as Real) / rho0;
+        let residual = &work.residual[..owned];
+        let mean = residual.iter().map(|r| r.abs()).sum::<Real>() / (owned.max(1) as Real);
+        report.error = system.error_over_ranks((mean, 0.0)).0 / rho0;
         pressure
             .par_iter_mut()
             .zip(work.unknown.par_iter())
             .enumerate()
             .for_each(|(i, (p, x))| *p = x * density[i] * density[i]);
+        system.lists.exchange_halo_values(&mut work.unknown);
         let x = &work.unknown;
         velocity
             .par_iter_mut()
@@ -334,6 +369,7 @@ impl Bicgstab {
         } = work;
         let inverse = &*inverse;
         let active = |i: usize| inverse[i] != 0.0;
+        let owned = operator.owned;
         // r = b − A x on the active rows, r̂ = r.
         operator.apply(x, active, acceleration, v, b, partial);
         (r.par_iter_mut(), shadow.par_iter_mut(), p.par_iter_mut())
@@ -346,7 +382,7 @@ impl Bicgstab {
                 *p = 0.0;
             });
         v.par_iter_mut().for_each(|v| *v = 0.0);
-        let mut r_norm: Real = r.iter().map(|r| r * r).sum();
+        let [mut r_norm, _] = operator.over_ranks([r[..owned].iter().map(|r| r * r).sum(), 0.0]);
         let mut best_norm = r_norm;
         best_unknown.copy_from_slice(x);
         best_residual.copy_from_slice(r);
@@ -386,11 +422,13 @@ impl Bicgstab {
                         *x += alpha * *z;
                         *s = r[i] - alpha * v[i];
                         *z = *s * inverse[i];
-                        sum[0] += *s * *s;
+                        if i < owned {
+                            sum[0] += *s * *s;
+                        }
                     }
                 });
             iterations += 1;
-            let [s_norm, _] = total(partial);
+            let [s_norm, _] = operator.over_ranks(total(partial));
             if s_norm <= target {
                 std::mem::swap(r, s);
                 r_norm = s_norm;
@@ -409,12 +447,14 @@ impl Bicgstab {
                         let i = k * CHUNK + l;
                         *x += omega * z[i];
                         *r = s[i] - omega * t[i];
-                        sum[0] += *r * *r;
-                        sum[1] += *r * shadow[i];
+                        if i < owned {
+                            sum[0] += *r * *r;
+                            sum[1] += *r * shadow[i];
+                        }
                     }
                 });
             rho_previous = rho;
-            [r_norm, rho] = total(partial);
+            [r_norm, rho] = operator.over_ranks(total(partial));
             if r_norm < best_norm {
                 best_norm = r_norm;
                 best_unknown.copy_from_slice(x);

@@ -531,7 +531,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
     }
 
     /// The pressure warm start travels with the particles, the method's own with
-    /// [`PressureMethod::retain`]; lists, densities and diagonals are rebuilt for the
+    /// [`PressureMethod::carried`]; lists, densities and diagonals are rebuilt for the
     /// particles that remain.
     fn remove_particles(
         &mut self,
