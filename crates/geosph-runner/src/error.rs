@@ -45,8 +45,9 @@ pub enum RunError {
         /// Where the last good state and the report are.
         files: Box<BlowUpFiles>,
     },
-    /// The solver, or what the scene asks of it, does not run on several ranks
-    /// ([`geosph_sph::Solver::distribute`]); found alike on every rank before the first step.
+    /// The solver, or what the scene asks of it, does not run on several ranks, or the domain
+    /// cannot be shared between them ([`geosph_sph::Solver::distribute`]); found alike on
+    /// every rank before the first step.
     #[error("{0}")]
     NotDistributed(SolverError),
     /// The output folder cannot be created or written; found before any work is done.

@@ -12,7 +12,8 @@
 //! is not used; their fields are overwritten at the next refresh.
 //!
 //! Ownership and the halo's composition change only at a *set-up*, between steps: when some
-//! particle has moved a quarter of the Verlet skin since the last one. Then particles that
+//! particle has moved a quarter of the Verlet skin (for exact lists, of the halo's margin)
+//! since the last one. Then particles that
 //! left a rank's cells move to their owner with the state their solver keeps of them
 //! ([`PerParticle`]), the owned particles are sorted along the curve, and the halo is made
 //! anew. Between set-ups the halo covers every pair as long as no particle moves more than half
@@ -241,13 +242,17 @@ impl<const D: usize> Distribution<D> {
             .fold(0.0, Real::max)
     }
 
+    /// Whether a set-up is due whatever the particles did: before the first, or after
+    /// [`Distribution::set_up_next_step`] (the same on every rank, no collective).
+    pub fn set_up_pending(&self) -> bool {
+        self.holds_all || self.set_up_keeping_cut
+    }
+
     /// Whether the next step should start with a set-up: before the first, after
     /// [`Distribution::set_up_next_step`], or once some particle has moved a quarter of the
     /// skin since the last (collective).
     pub fn due(&self, position: &[Vector<D>]) -> bool {
-        self.holds_all
-            || self.set_up_keeping_cut
-            || 16.0 * self.max(self.moved2(position)) > self.skin * self.skin
+        self.set_up_pending() || 16.0 * self.max(self.moved2(position)) > self.skin * self.skin
     }
 
     /// The outcome of a list update that every rank agrees on (collective): this rank's

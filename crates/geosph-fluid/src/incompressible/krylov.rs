@@ -114,6 +114,9 @@ impl KrylovScratch {
         ] {
             v.resize(n, 0.0);
         }
+        // Zeroed: with no particles no chunk overwrites the one partial sum, which must
+        // then add nothing to the ranks' sums.
+        self.partial.clear();
         self.partial.resize(n.div_ceil(CHUNK).max(1), [0.0; 2]);
     }
 }

@@ -378,11 +378,12 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         // checkpoint) the ranks set up; at every step's start the halo takes the owners'
         // velocities and densities, which the last update and solve left right on the owned
         // particles only. Limits and errors are over the owned particles, then over the ranks.
-        if self.system.lists.distribution().is_some() {
-            let (lists, method) = (&mut self.system.lists, &mut self.method);
-            if with_carried(method, |carried| {
-                lists.reorder_if_due(self.steps, fluid, carried)
-            })? {
+        if let Some(distribution) = self.system.lists.distribution() {
+            if distribution.set_up_pending() {
+                let (lists, method) = (&mut self.system.lists, &mut self.method);
+                with_carried(method, |carried| {
+                    lists.reorder_if_due(self.steps, fluid, carried)
+                })?;
                 self.system.update(fluid)?;
             }
             self.system.lists.exchange_halo(fluid);

@@ -77,8 +77,8 @@ const fn dam_break(solver: Option<(&'static str, &'static str)>, end: Real) -> C
 /// fraction `tolerance` of its source, and two solves that both reach it differ by about that
 /// fraction (its iterates are no smooth function of the round-off of the dot products, whose
 /// order the ranks change): at its default 10⁻² one step differs from one process by 4 × 10⁻³
-/// of √(2 g H), at 10⁻⁸ by 2 × 10⁻⁸, at 10⁻¹⁰ by 6 × 10⁻¹²; so it runs at 10⁻¹⁰ for two
-/// steps, and its iteration counts, which at that tolerance depend on the round-off, are not
+/// of √(2 g H), at 10⁻⁸ by 2 × 10⁻⁸, at 10⁻¹⁰ by 6 × 10⁻¹²; so it runs at 10⁻¹⁰ for one
+/// step (5 ms), and its iteration counts, which at that tolerance depend on the round-off, are not
 /// compared.
 const CASES: [Case; 7] = [
     dam_break(None, 0.3),
