@@ -137,14 +137,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         _fluid: &mut Particles<D>,
         transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
-        self.system
-            .lists
-            .single_process("distributing a run again")?;
-        if self.motion.is_some() {
-            return Err(SolverError::NotDistributed(
-                "rigid bodies do not run on several ranks yet".into(),
-            ));
-        }
+        self.system.lists.can_distribute(self.motion.is_some())?;
         // The multi-stage schemes evaluate rates between stages without the update that
         // refreshes the halo.
         let scheme = self.integrator.scheme();

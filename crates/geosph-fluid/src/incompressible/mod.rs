@@ -495,14 +495,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         fluid: &mut Particles<D>,
         transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
-        self.system
-            .lists
-            .single_process("distributing a run again")?;
-        if self.motion.is_some() {
-            return Err(SolverError::NotDistributed(
-                "rigid bodies do not run on several ranks yet".into(),
-            ));
-        }
+        self.system.lists.can_distribute(self.motion.is_some())?;
         self.method.distribute(fluid)?;
         let margin = self.system.kernel.support_radius();
         self.system

@@ -64,6 +64,19 @@ impl<const D: usize> PairLists<D> {
         }
     }
 
+    /// The checks every solver's `distribute` makes first: an error if these lists are
+    /// already distributed or, with `moving_walls` (rigid bodies), since those do not run on
+    /// several ranks yet.
+    pub fn can_distribute(&self, moving_walls: bool) -> Result<(), SolverError> {
+        self.single_process("distributing a run again")?;
+        match moving_walls {
+            true => Err(SolverError::NotDistributed(
+                "rigid bodies do not run on several ranks yet".into(),
+            )),
+            false => Ok(()),
+        }
+    }
+
     /// Keeps the cut of a distributed run's checkpoint (`None`: one process's) for
     /// [`PairLists::distribute`].
     pub fn restore_partition(&mut self, partition: Option<PartitionState>) {
