@@ -199,7 +199,7 @@ impl Dfsph {
                         *term = *dp / (rho_i * rho_i);
                     });
             }
-            let (mean, max) = system.error_over_ranks(super::residual_error(
+            let (mean, max) = system.error_over_ranks(super::errors::residual_error(
                 &residual[..owned],
                 &diagonal[..owned],
                 settings.negative_pressure,

@@ -100,7 +100,7 @@ impl<const D: usize> PressureMethod<D> for Iisph {
 pub(crate) enum StopOn {
     /// The mean compression, mean of max(ρ̃_i/ρ₀ − 1, 0) (PCISPH).
     Compression,
-    /// The [complementarity error](super::complementarity_error) over ρ₀: |ρ̃_i/ρ₀ − 1| where
+    /// The [complementarity error](super::errors::complementarity_error) over ρ₀: |ρ̃_i/ρ₀ − 1| where
     /// p_i > 0, max(ρ̃_i/ρ₀ − 1, 0) elsewhere (IISPH).
     Complementarity,
 }
@@ -197,10 +197,12 @@ pub(crate) fn relaxed_jacobi<const D: usize, K: Kernel<D>>(
         system.lists.exchange_halo_values(pressure_term);
         let (predicted, diagonal) = (&divergence[..owned], &system.diagonal()[..owned]);
         let (mean, max) = system.error_over_ranks(match stop {
-            _ if settings.negative_pressure => super::mean_and_max_absolute(predicted, diagonal),
-            StopOn::Compression => super::mean_and_max_positive(predicted, diagonal),
+            _ if settings.negative_pressure => {
+                super::errors::mean_and_max_absolute(predicted, diagonal)
+            }
+            StopOn::Compression => super::errors::mean_and_max_positive(predicted, diagonal),
             StopOn::Complementarity => {
-                super::complementarity_error(predicted, &pressure[..owned], diagonal)
+                super::errors::complementarity_error(predicted, &pressure[..owned], diagonal)
             }
         });
         report.error = mean / rho0;

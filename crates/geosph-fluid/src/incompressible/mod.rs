@@ -18,15 +18,18 @@
 //! derivation of the shared system is in `docs/fluid.md`.
 
 mod dfsph;
+mod errors;
 mod iisph;
 mod krylov;
 mod pcisph;
+mod settings;
 mod system;
 
 pub use dfsph::Dfsph;
 pub use iisph::Iisph;
 pub use krylov::{Bicgstab, KrylovScratch, PressureIteration};
 pub use pcisph::Pcisph;
+pub use settings::{PressureSolveSettings, PressureSource};
 pub use system::{DIAGONAL_FLOOR, PressureSystem, WallPressure};
 
 use geosph_boundary::WallParticles;
@@ -42,72 +45,6 @@ use geosph_sph::{
     restore_wall_motion,
 };
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
-
-/// Iteration controls and time-step rule shared by the incompressible solvers.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct PressureSolveSettings {
-    /// Target of the mean relative density error of the predicted densities ρ̃ (default
-    /// 0.001 = 0.1 %): for IISPH the complementarity error (|ρ̃/ρ₀ − 1| where p > 0, the
-    /// compression max(ρ̃/ρ₀ − 1, 0) elsewhere), for PCISPH and DFSPH the compression alone.
-    /// With `negative_pressure` the mean |ρ̃/ρ₀ − 1|; with the velocity-divergence
-    /// [`PressureSource`] that error is Δt times the relative density rate, a divergence target.
-    pub target_density_error: Real,
-    /// Bound on the largest predicted compression (ρ̃_i − ρ₀)/ρ₀ of a particle that takes
-    /// pressure (default 0.1 = 10 %): the solve goes on past the mean target while a particle
-    /// exceeds it. The mean alone lets a few particles be compressed far beyond it.
-    pub max_compression: Real,
-    /// Least iterations per step (default 2).
-    pub min_iterations: usize,
-    /// Most iterations per step (default 100); a step that reaches it is reported, not failed.
-    pub max_iterations: usize,
-    /// Courant number λ: no particle moves more than λ dx in a step (default 0.4).
-    pub cfl: Real,
-    /// Upper bound on the step in s (default 0.005 s, the default of SPlisHSPlasH; see
-    /// `docs/incompressible.md` for why a bound is needed).
-    pub max_time_step: Option<Real>,
-    /// Let pressures go negative (default false): the solves then drive the density error to
-    /// zero from both sides. Only for flows without a free surface, where suction is physical
-    /// (a vortex, a periodic channel); at a free surface it would pull spray back.
-    pub negative_pressure: bool,
-    /// The source of PCISPH's and IISPH's pressure equation (default the density invariance
-    /// of the papers); DFSPH has both sources as its two solves.
-    pub source: PressureSource,
-}
-
-/// The source term of the pressure equation that PCISPH and IISPH solve (Cornelis, Bender,
-/// Gissler, Ihmsen & Teschner 2019, An optimized source term formulation for incompressible
-/// SPH, Vis. Comput. 35:579).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum PressureSource {
-    /// Density invariance (default): Δt² ∇·a^p = ρ₀ − ρ*_i with ρ*_i = ρ_i + Δt Σ_j m_j
-    /// (v*_i − v*_j)·∇_i W_ij, the papers' form: it also corrects the density the particles
-    /// have drifted to, and on disordered particles chases the summation density's scatter.
-    #[default]
-    DensityInvariance,
-    /// Velocity divergence: Δt² ∇·a^p = −Δt Σ_j m_j (v*_i − v*_j)·∇_i W_ij, the projection of
-    /// v* onto a divergence-free field, with no correction of the density itself (Cornelis et
-    /// al.'s VD; they correct the sampling by a particle shift, here the δ⁺-SPH shifting).
-    /// Only for flows without a free surface (`negative_pressure`), whose volume the domain
-    /// fixes; a free surface would lose volume step by step.
-    VelocityDivergence,
-}
-
-impl Default for PressureSolveSettings {
-    fn default() -> Self {
-        Self {
-            target_density_error: 1e-3,
-            max_compression: 0.1,
-            min_iterations: 2,
-            max_iterations: 100,
-            cfl: 0.4,
-            max_time_step: Some(0.005),
-            negative_pressure: false,
-            source: PressureSource::DensityInvariance,
-        }
-    }
-}
 
 /// What a pressure solve did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -573,71 +510,4 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         self.steps = steps;
         Ok(())
     }
-}
-
-/// Mean of the positive entries of `values`, summed in index order, and the largest entry
-/// of a particle with a non-zero `diagonal` (one that can take pressure; 0 if none).
-pub(crate) fn mean_and_max_positive(values: &[Real], diagonal: &[Real]) -> (Real, Real) {
-    mean_error_and_max(values, diagonal, |_, value| value.max(0.0), |r| r)
-}
-
-/// Mean of |`values`|, summed in index order, and the largest |entry| of a particle with a
-/// non-zero `diagonal`: the error of a solve whose pressures may be negative.
-pub(crate) fn mean_and_max_absolute(values: &[Real], diagonal: &[Real]) -> (Real, Real) {
-    mean_error_and_max(values, diagonal, |_, r| r.abs(), Real::abs)
-}
-
-/// [`mean_and_max_absolute`] when `negative_pressure`, else [`mean_and_max_positive`].
-pub(crate) fn residual_error(
-    values: &[Real],
-    diagonal: &[Real],
-    negative_pressure: bool,
-) -> (Real, Real) {
-    if negative_pressure {
-        mean_and_max_absolute(values, diagonal)
-    } else {
-        mean_and_max_positive(values, diagonal)
-    }
-}
-
-/// The complementarity error of a pressure solve with p ≥ 0: the mean over all particles of
-/// |r_i| where p_i > 0 and max(r_i, 0) where p_i = 0, r = `residual` = ρ̃ − ρ₀, summed in
-/// index order; and the largest r_i of a particle with a non-zero `diagonal` (0 if none).
-///
-/// The exact solution satisfies p_i ≥ 0, ρ̃_i ≤ ρ₀ and p_i (ρ̃_i − ρ₀) = 0 (a linear
-/// complementarity problem): a particle under pressure must be at ρ₀, not below it. Counting
-/// only compression lets a solve stop with pressures that hold particles apart, expanded
-/// below ρ₀; in still water that left the level of the pressure free by several per cent
-/// (`docs/incompressible.md`, "Still water").
-pub(crate) fn complementarity_error(
-    residual: &[Real],
-    pressure: &[Real],
-    diagonal: &[Real],
-) -> (Real, Real) {
-    let error = |i: usize, r: Real| {
-        if pressure[i] > 0.0 {
-            r.abs()
-        } else {
-            r.max(0.0)
-        }
-    };
-    mean_error_and_max(residual, diagonal, error, |r| r)
-}
-
-/// The mean of `error(i, r_i)` over `residual`, summed in index order, and the largest
-/// `peak(r_i)` of a particle with a non-zero `diagonal` (0 if none).
-fn mean_error_and_max(
-    residual: &[Real],
-    diagonal: &[Real],
-    error: impl Fn(usize, Real) -> Real,
-    peak: impl Fn(Real) -> Real,
-) -> (Real, Real) {
-    let (sum, max) = residual.iter().zip(diagonal).enumerate().fold(
-        (0.0, 0.0),
-        |(sum, max): (Real, Real), (i, (&r, &d))| {
-            let max = if d > 0.0 { max.max(peak(r)) } else { max };
-            (sum + error(i, r), max)
-        },
-    );
-    (sum / residual.len().max(1) as Real, max)
 }
