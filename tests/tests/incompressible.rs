@@ -16,7 +16,7 @@
 
 use geosph_core::{Particles, Real};
 use geosph_kernels::KernelKind;
-use geosph_runner::{NoObserver, Observer, PressureProbes, RunOptions, Summary, run};
+use geosph_runner::{NoObserver, Observer, PressureProbes, RunOptions, Share, Summary, run};
 use geosph_scene::ProbeSpec;
 use geosph_scene::Scene;
 
@@ -72,7 +72,7 @@ impl Observer<2> for TankObserver {
             return;
         }
         self.row.clear();
-        self.probes.sample(fluid, &mut self.row);
+        self.probes.sample(&Share::whole_run(fluid), &mut self.row);
         for (sum, p) in self.sums.iter_mut().zip(&self.row) {
             *sum += p;
         }

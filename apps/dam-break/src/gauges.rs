@@ -9,9 +9,9 @@
 
 use std::path::Path;
 
-use geosph_core::{Particles, Real};
+use geosph_core::Real;
 use geosph_io::{PlotSpec, Series, line_plot_png};
-use geosph_runner::{PressureProbes, push_records, take_records};
+use geosph_runner::{PressureProbes, Share, push_records, take_records};
 use geosph_scene::{ProbeSpec, Scene};
 
 use crate::Column;
@@ -216,10 +216,11 @@ impl<const D: usize> WallGauges<D> {
         }
     }
 
-    /// Records the gauges for `fluid` at `time` (s).
-    pub fn sample(&mut self, time: Real, fluid: &Particles<D>) {
+    /// Records the gauges at `time` (s) from `share` (on several ranks each rank's sums are
+    /// added over the ranks, [`PressureProbes::sample`]).
+    pub fn sample(&mut self, time: Real, share: &Share<'_, D>) {
         self.row.clear();
-        self.probes.sample(fluid, &mut self.row);
+        self.probes.sample(share, &mut self.row);
         self.time.push(time * self.set_up.time_scale);
         for (series, &p) in self.pressure.iter_mut().zip(&self.row) {
             let p = if p.is_finite() { p } else { 0.0 };

@@ -17,7 +17,7 @@ use std::path::Path;
 
 use geosph_core::{Particles, Real};
 use geosph_io::{PlotSpec, Series, line_plot_png, write_csv_atomically};
-use geosph_runner::{NoObserver, Observer, RunOptions, Summary, push_records, take_records};
+use geosph_runner::{NoObserver, Observer, RunOptions, Share, Summary, push_records, take_records};
 use geosph_scene::{Region, Scene};
 
 pub use gauge_comparison::{GaugeComparison, WallPressureValidation};
@@ -146,21 +146,32 @@ impl<const D: usize> Observer<D> for FrontTracker {
     }
 
     fn sample(&mut self, time: Real, fluid: &Particles<D>, row: &mut Vec<Real>) {
+        self.sample_share(time, &mut Share::whole_run(fluid), row);
+    }
+
+    /// The front is a maximum over the ranks; the heights in the band are gathered and
+    /// sorted, so both are those of one process exactly.
+    fn sample_share(&mut self, time: Real, share: &mut Share<'_, D>, row: &mut Vec<Real>) {
         let up = D - 1;
         let column = self.column;
-        let front = fluid
-            .position
+        let mut front = [share
+            .position()
             .iter()
             .map(|x| x[0] - column.wall)
-            .fold(0.0, Real::max);
+            .fold(0.0, Real::max)];
+        share.max_each(&mut front);
+        let [front] = front;
         self.heights.clear();
         self.heights.extend(
-            fluid
-                .position
+            share
+                .position()
                 .iter()
                 .filter(|x| x[0] - column.wall < column.band)
                 .map(|x| x[up]),
         );
+        if share.is_distributed() {
+            self.heights = share.gather(&self.heights);
+        }
         self.heights.sort_by(Real::total_cmp);
         // The top of the continuous column: climb from the bed until a vertical gap wider
         // than the band, so droplets clinging to the wall above do not count.
@@ -264,9 +275,13 @@ where
     }
 
     fn sample(&mut self, time: Real, fluid: &Particles<D>, row: &mut Vec<Real>) {
-        self.tracker.sample(time, fluid, row);
+        self.sample_share(time, &mut Share::whole_run(fluid), row);
+    }
+
+    fn sample_share(&mut self, time: Real, share: &mut Share<'_, D>, row: &mut Vec<Real>) {
+        self.tracker.sample_share(time, share, row);
         if let Some(gauges) = self.gauges_mut() {
-            gauges.sample(time, fluid);
+            gauges.sample(time, share);
         }
     }
 

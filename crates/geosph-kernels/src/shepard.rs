@@ -55,6 +55,32 @@ pub fn shepard_sums<K: Kernel<D>, const D: usize>(
     });
 }
 
+/// The two sums of the Shepard interpolant at `x` ([`shepard_interpolation`]),
+/// (Σ_j f_j V_j W(|x − x_j|), Σ_j V_j W(|x − x_j|)), over every particle of `position`,
+/// added in index order: sums over parts of the particles (one rank's each) add up to the
+/// sums over all of them.
+pub fn interpolation_sums<K: Kernel<D>, const D: usize>(
+    kernel: &K,
+    x: &Vector<D>,
+    position: &[Vector<D>],
+    volume: &[Real],
+    value: &[Real],
+) -> (Real, Real) {
+    let support = kernel.support_radius();
+    position.iter().zip(volume).zip(value).fold(
+        (0.0, 0.0),
+        |(weighted, weights), ((x_j, &v_j), &f_j)| {
+            let r = (x - x_j).norm();
+            if r < support {
+                let w = v_j * kernel.value(r);
+                (weighted + w * f_j, weights + w)
+            } else {
+                (weighted, weights)
+            }
+        },
+    )
+}
+
 /// The Shepard interpolant of a particle field at a point `x` (Shepard 1968),
 ///
 /// ```text
@@ -83,19 +109,7 @@ pub fn shepard_interpolation<K: Kernel<D>, const D: usize>(
         volume.len(),
         value.len()
     );
-    let support = kernel.support_radius();
-    let (weighted, weights) = position.iter().zip(volume).zip(value).fold(
-        (0.0, 0.0),
-        |(weighted, weights), ((x_j, &v_j), &f_j)| {
-            let r = (x - x_j).norm();
-            if r < support {
-                let w = v_j * kernel.value(r);
-                (weighted + w * f_j, weights + w)
-            } else {
-                (weighted, weights)
-            }
-        },
-    );
+    let (weighted, weights) = interpolation_sums(kernel, x, position, volume, value);
     (weights > 0.0).then(|| weighted / weights)
 }
 

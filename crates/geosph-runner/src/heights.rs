@@ -1,8 +1,10 @@
 //! Water-level gauges: the height of the free surface along vertical lines, sampled with the
 //! diagnostics.
 
-use geosph_core::{Particles, Real, Vector};
+use geosph_core::{Real, Vector};
 use geosph_scene::HeightSpec;
+
+use crate::share::Share;
 
 /// The scene's `output.heights`: at each sample, for each gauge, the top of the continuous
 /// column of particles within one particle spacing dx of its vertical line (the last axis),
@@ -20,6 +22,8 @@ pub struct HeightGauges<const D: usize> {
     spacing: Real,
     /// Heights near the last gauge, kept to avoid an allocation per sample.
     column: Vec<Real>,
+    /// (gauge, height) of this rank's particles near the lines, likewise.
+    near: Vec<Real>,
 }
 
 impl<const D: usize> HeightGauges<D> {
@@ -31,6 +35,7 @@ impl<const D: usize> HeightGauges<D> {
             positions: gauges.iter().map(|g| g.position.clone()).collect(),
             spacing,
             column: Vec::new(),
+            near: Vec::new(),
         }
     }
 
@@ -54,18 +59,33 @@ impl<const D: usize> HeightGauges<D> {
         )
     }
 
-    /// Appends each gauge's height (m) to `row`.
-    pub fn sample(&mut self, particles: &Particles<D>, row: &mut Vec<Real>) {
+    /// Appends each gauge's height (m) to `row`. On several ranks the heights of the
+    /// particles near the lines are gathered (one collective for all gauges) and sorted, so
+    /// the levels are those of one process exactly.
+    pub fn sample(&mut self, share: &Share<'_, D>, row: &mut Vec<Real>) {
+        if self.positions.is_empty() {
+            return;
+        }
         let up = D - 1;
         let dx = self.spacing;
-        for line in &self.positions {
-            let near = |x: &Vector<D>| {
-                let squared: Real = (0..up).map(|k| (x[k] - line[k]).powi(2)).sum();
+        // (gauge, height) of each particle near a line.
+        self.near.clear();
+        for (k, line) in self.positions.iter().enumerate() {
+            let near = |x: &&Vector<D>| {
+                let squared: Real = (0..up).map(|a| (x[a] - line[a]).powi(2)).sum();
                 squared <= dx * dx
             };
+            let heights = share.position().iter().filter(near);
+            self.near.extend(heights.flat_map(|x| [k as Real, x[up]]));
+        }
+        let near = share.gather(&self.near);
+        for k in 0..self.positions.len() {
             self.column.clear();
-            self.column
-                .extend(particles.position.iter().filter(|x| near(x)).map(|x| x[up]));
+            self.column.extend(
+                near.chunks_exact(2)
+                    .filter(|pair| pair[0] == k as Real)
+                    .map(|pair| pair[1]),
+            );
             self.column.sort_by(Real::total_cmp);
             let top = (!self.column.is_empty()).then(|| first_top(&self.column, 2.0 * dx));
             row.push(top.map_or(Real::NAN, |z| z + 0.5 * dx));
@@ -89,6 +109,7 @@ fn first_top(heights: &[Real], gap: Real) -> Real {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use geosph_core::Particles;
 
     #[test]
     fn a_layer_reads_its_depth_and_spray_above_it_does_not_count() {
@@ -113,7 +134,7 @@ mod tests {
         ];
         let mut gauges = HeightGauges::<2>::new(&specs, dx);
         let mut row = Vec::new();
-        gauges.sample(&particles, &mut row);
+        gauges.sample(&Share::whole_run(&particles), &mut row);
         assert_eq!(gauges.columns(), ["h_a", "h_dry"]);
         assert!((row[0] - 0.5).abs() < 1e-12, "{row:?}");
         assert!(row[1].is_nan());

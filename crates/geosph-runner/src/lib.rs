@@ -14,6 +14,8 @@
 //! Modules:
 //! - [`observer`]: the [`Observer`] hook through which applications sample their own
 //!   quantities (e.g. a dam-break front) at every sample time.
+//! - [`share`]: [`Share`], what a sample sees of the particles: every particle in one
+//!   process, a rank's own with the reductions over the ranks in a distributed run.
 //! - [`output`]: the run's output folder: frames, `.pvd`, CSV.
 //! - [`loads`]: force and moment of the fluid's pressure on mesh walls (the scene's
 //!   `output.loads`), extra columns of `diagnostics.csv` and `loads.png`.
@@ -66,6 +68,7 @@ pub mod output;
 pub mod probes;
 pub mod run;
 mod run_loop;
+pub mod share;
 mod summary;
 
 pub use checkpoint::CheckpointEvery;
@@ -77,4 +80,5 @@ pub use output::scene_outputs;
 pub use probes::PressureProbes;
 pub use run::{RunError, RunOptions, Summary, run};
 pub use run_loop::build_solver;
+pub use share::Share;
 pub use summary::RankLoad;

@@ -7,6 +7,8 @@ use geosph_neighbours::CellGrid;
 use geosph_scene::LoadSurface;
 use geosph_sph::surface_load::{FluidField, LoadPoint, SoilField, pressure_load, stress_load};
 
+use crate::share::Share;
+
 /// The loads on the scene's `output.loads` walls: at each sample, for each gauge, the force
 /// F = −Σ_q p(x_q) n_q A_q and moment M = Σ_q (x_q − x_c) × (−p(x_q) n_q A_q) over the
 /// quadrature points of its surface, with the pressure extrapolated to them from the fluid
@@ -83,6 +85,14 @@ impl<const D: usize> WallLoads<D> {
                 prefix: "F_",
             },
         )
+    }
+
+    /// [`WallLoads::sample`] at a sample of a run: on several ranks from every particle,
+    /// gathered ([`Share::whole`]), only when the scene has load gauges.
+    pub fn sample_share(&mut self, share: &mut Share<'_, D>, row: &mut Vec<Real>) {
+        if self.grid.is_some() {
+            self.sample(share.whole(), row);
+        }
     }
 
     /// Appends each gauge's force (N; 2D: N/m) and moment (N m; 2D: N m/m) to `row`.

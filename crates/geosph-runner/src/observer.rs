@@ -2,6 +2,8 @@
 
 use geosph_core::{Particles, Real};
 
+use crate::share::Share;
+
 /// Samples application-specific quantities of the fluid, written as extra columns of
 /// `diagnostics.csv` and kept for the application.
 pub trait Observer<const D: usize> {
@@ -10,6 +12,16 @@ pub trait Observer<const D: usize> {
 
     /// Appends one value per column to `row` for the fluid at `time`.
     fn sample(&mut self, time: Real, fluid: &Particles<D>, row: &mut Vec<Real>);
+
+    /// [`Observer::sample`] from this rank's [`Share`] of the particles: what the runner
+    /// calls, on every rank of a distributed run (every rank keeps the observer's state, and
+    /// must make the same collective calls of `share` in the same order). The default gathers
+    /// every particle ([`Share::whole`]) and samples them; an observer that combines partial
+    /// results over the ranks instead ([`Share::sum_each`], …) needs no rank to hold the whole
+    /// run. In one process the share is every particle, as [`Observer::sample`] sees them.
+    fn sample_share(&mut self, time: Real, share: &mut Share<'_, D>, row: &mut Vec<Real>) {
+        self.sample(time, share.whole(), row);
+    }
 
     /// What the observer accumulated (e.g. its samples), saved in a checkpoint; default none.
     fn save_state(&self) -> Vec<Real> {

@@ -2,11 +2,13 @@
 
 use std::path::Path;
 
-use geosph_core::{Particles, Real, Vector};
+use geosph_core::{Real, Vector};
 use geosph_io::{Error, PlotSpec, Series, line_plot_png};
-use geosph_kernels::shepard::shepard_interpolation;
+use geosph_kernels::shepard::interpolation_sums;
 use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
 use geosph_scene::ProbeSpec;
+
+use crate::share::Share;
 
 /// Pressure gauges at fixed points (the scene's `output.probes`): at each sample, the Shepard
 /// interpolant (Shepard 1968) of the particle pressures at each probe,
@@ -26,6 +28,8 @@ pub struct PressureProbes<const D: usize> {
     smoothing_length: Real,
     /// V_j of the last sample, kept to avoid an allocation per sample.
     volume: Vec<Real>,
+    /// Each probe's two Shepard sums of the last sample, likewise.
+    sums: Vec<Real>,
 }
 
 impl<const D: usize> PressureProbes<D> {
@@ -41,6 +45,7 @@ impl<const D: usize> PressureProbes<D> {
             kernel,
             smoothing_length,
             volume: Vec::new(),
+            sums: Vec::new(),
         }
     }
 
@@ -50,37 +55,41 @@ impl<const D: usize> PressureProbes<D> {
     }
 
     /// Appends each probe's pressure (Pa) to `row`; NaN for a probe without fluid nearby, and
-    /// for all when the fluid carries no pressure.
-    pub fn sample(&mut self, fluid: &Particles<D>, row: &mut Vec<Real>) {
+    /// for all when the fluid carries no pressure. On several ranks each rank sums over its
+    /// own particles and the sums are added over the ranks (one collective for all probes).
+    pub fn sample(&mut self, share: &Share<'_, D>, row: &mut Vec<Real>) {
         if self.positions.is_empty() {
             return;
         }
-        let Some(pressure) = fluid.pressure.as_deref() else {
+        let Some(pressure) = share.pressure() else {
             row.extend(self.positions.iter().map(|_| Real::NAN));
             return;
         };
         self.volume.clear();
-        self.volume.extend(
-            fluid
-                .mass
-                .iter()
-                .zip(&fluid.density)
-                .map(|(m, rho)| m / rho),
-        );
+        let (mass, density) = (share.mass(), share.density());
+        self.volume
+            .extend(mass.iter().zip(density).map(|(m, rho)| m / rho));
+        self.sums.clear();
         for x in &self.positions {
             let probe = Probe {
                 x,
-                position: &fluid.position,
+                position: share.position(),
                 volume: &self.volume,
                 pressure,
             };
-            let value = self.kernel.dispatch(self.smoothing_length, probe);
-            row.push(value.unwrap_or(Real::NAN));
+            let (weighted, weights) = self.kernel.dispatch(self.smoothing_length, probe);
+            self.sums.extend_from_slice(&[weighted, weights]);
         }
+        share.sum_each(&mut self.sums);
+        row.extend(self.sums.chunks_exact(2).map(|sums| match sums {
+            &[weighted, weights] if weights > 0.0 => weighted / weights,
+            _ => Real::NAN,
+        }));
     }
 }
 
-/// One probe's interpolation, run with whichever kernel the scene names.
+/// One probe's Shepard sums over a set of particles, run with whichever kernel the scene
+/// names.
 struct Probe<'a, const D: usize> {
     x: &'a Vector<D>,
     position: &'a [Vector<D>],
@@ -89,9 +98,9 @@ struct Probe<'a, const D: usize> {
 }
 
 impl<const D: usize> KernelVisitor<D> for Probe<'_, D> {
-    type Output = Option<Real>;
-    fn visit<K: Kernel<D>>(self, kernel: K) -> Option<Real> {
-        shepard_interpolation(&kernel, self.x, self.position, self.volume, self.pressure)
+    type Output = (Real, Real);
+    fn visit<K: Kernel<D>>(self, kernel: K) -> (Real, Real) {
+        interpolation_sums(&kernel, self.x, self.position, self.volume, self.pressure)
     }
 }
 

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use geosph_core::{Particles, Real};
+use geosph_core::{Particles, Real, Vector};
 use geosph_scene::Scene;
 use geosph_sph::{Solver, StepReport};
 use indicatif::ProgressBar;
@@ -20,6 +20,7 @@ use crate::observer::Observer;
 use crate::options::RunOptions;
 use crate::output::RunOutput;
 use crate::probes::PressureProbes;
+use crate::share::Share;
 use crate::summary::Summary;
 
 mod checkpoints;
@@ -277,7 +278,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         let output_due = time >= self.next_output - self.tolerance;
         let diagnosis = match escape {
             Removal::TooMany(diagnosis) => Some(diagnosis),
-            _ => self.health(&report, last_good_owned, sample_due),
+            _ => self.health(&report, last_good_owned),
         };
         if let Some(diagnosis) = diagnosis {
             return Err(self.blow_up(diagnosis, steps, (time, last_good_time)));
@@ -353,26 +354,35 @@ impl<'a, const D: usize> RunLoop<'a, D> {
     }
 
     /// One row of `diagnostics.csv`: the run's own columns, the observer's, the probes', the
-    /// water levels' and the load gauges'.
+    /// water levels' and the load gauges', each from this rank's [`Share`] of the particles
+    /// (every particle in one process, and before the first step has shared them out).
     fn sample(&mut self, time: Real, step: usize, report: &StepReport) -> Result<(), RunError> {
-        let fluid = self.ranks.as_ref().map_or(&self.fluid, |view| &view.whole);
+        let owned = self.owned_after_split();
+        let mut share = match (&mut self.ranks, owned) {
+            (Some(view), Some(owned)) => view.share(&self.fluid, owned),
+            _ => Share::whole_run(&self.fluid),
+        };
+        let mut energy = [kinetic_energy(share.mass(), share.velocity())];
+        share.sum_each(&mut energy);
+        let mut speed = [geosph_sph::max_speed(share.velocity())];
+        share.max_each(&mut speed);
         self.row.clear();
         self.row.extend_from_slice(&[
             time,
             step as Real,
             report.dt,
-            kinetic_energy(fluid),
+            energy[0],
             report.density_error_mean,
             report.density_error_max,
-            geosph_sph::max_speed(&fluid.velocity),
+            speed[0],
             report.iterations as Real,
             report.divergence_iterations as Real,
             self.state.escaped as Real,
         ]);
-        self.observer.sample(time, fluid, &mut self.row);
-        self.probes.sample(fluid, &mut self.row);
-        self.heights.sample(fluid, &mut self.row);
-        self.loads.sample(fluid, &mut self.row);
+        self.observer.sample_share(time, &mut share, &mut self.row);
+        self.probes.sample(&share, &mut self.row);
+        self.heights.sample(&share, &mut self.row);
+        self.loads.sample_share(&mut share, &mut self.row);
         if let Some(motion) = self.solver.wall_motion() {
             motion.sample(&mut self.row);
         }
@@ -500,11 +510,11 @@ impl<'a, const D: usize> RunLoop<'a, D> {
     }
 }
 
-fn kinetic_energy<const D: usize>(fluid: &Particles<D>) -> Real {
-    fluid
-        .velocity
+/// Σ ½ m |v|², summed in index order.
+fn kinetic_energy<const D: usize>(mass: &[Real], velocity: &[Vector<D>]) -> Real {
+    velocity
         .iter()
-        .zip(&fluid.mass)
+        .zip(mass)
         .map(|(v, m)| 0.5 * m * v.norm_squared())
         .sum()
 }

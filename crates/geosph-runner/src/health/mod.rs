@@ -304,6 +304,27 @@ impl<const D: usize> Limits<D> {
     }
 }
 
+/// Whether [`check`] can find trouble after a step whose particles `scan` describes: its
+/// conditions, from the scan and the report alone (a distributed run tests this on the scan
+/// over every rank, [`Scan::over_ranks`], and gathers the particles only when it holds).
+pub fn suspect<const D: usize>(report: &StepReport, scan: &Scan<D>, limits: &Limits<D>) -> bool {
+    let energy_exceeded = limits
+        .energy
+        .as_ref()
+        .is_some_and(|budget| scan.kinetic_energy > budget.bound(scan.gravity_moment));
+    let healthy = report.dt.is_finite()
+        && report.dt > 0.0
+        && scan.finite
+        && !scan.leaves_domain(limits)
+        && report.density_error_max.is_finite()
+        && report.density_error_max <= MAX_DENSITY_ERROR
+        && !limits
+            .max_stress
+            .is_some_and(|bound| scan.max_stress > bound)
+        && !energy_exceeded;
+    !healthy
+}
+
 /// Checks the state after a step against `limits`; `None` when healthy.
 pub fn check<const D: usize>(
     report: &StepReport,

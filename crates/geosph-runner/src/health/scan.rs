@@ -1,6 +1,7 @@
 //! One pass over the particles for the blow-up checks.
 
 use geosph_core::{Particles, Real, Vector};
+use geosph_sph::Transport;
 
 use super::{Limits, Quantity};
 
@@ -28,6 +29,11 @@ pub struct Scan<const D: usize> {
 impl<const D: usize> Scan<D> {
     /// Scans `fluid` with the gravity of `limits`.
     pub fn of(fluid: &Particles<D>, limits: &Limits<D>) -> Self {
+        Self::of_first(fluid, fluid.len(), limits)
+    }
+
+    /// Scans the first `count` particles of `fluid` (a rank's own, its halo after them).
+    pub fn of_first(fluid: &Particles<D>, count: usize, limits: &Limits<D>) -> Self {
         let mut kinetic_energy: Real = 0.0;
         let mut gravity_moment: Real = 0.0;
         // Any NaN or infinity makes this sum NaN or infinite (finite values overflowing it is
@@ -41,6 +47,7 @@ impl<const D: usize> Scan<D> {
             .zip(&fluid.velocity)
             .zip(&fluid.mass)
             .zip(&fluid.density)
+            .take(count)
         {
             kinetic_energy += 0.5 * m * v.norm_squared();
             gravity_moment += m * limits.gravity.dot(x);
@@ -50,7 +57,7 @@ impl<const D: usize> Scan<D> {
         }
         let mut max_stress_squared: Real = 0.0;
         if let Some(soil) = &fluid.soil {
-            for stress in &soil.stress {
+            for stress in soil.stress.iter().take(count) {
                 sum += stress.sum();
                 max_stress_squared = max_stress_squared.max(stress.norm_squared());
             }
@@ -63,6 +70,36 @@ impl<const D: usize> Scan<D> {
             highest,
             max_stress: max_stress_squared.sqrt(),
         }
+    }
+
+    /// The scan of the particles of every rank from each rank's scan of its own (collective;
+    /// one gather): the sums added in rank order, the box and the stress exact.
+    pub fn over_ranks(&self, transport: &dyn Transport) -> Self {
+        let mut mine = vec![
+            self.kinetic_energy,
+            self.gravity_moment,
+            Real::from(u8::from(self.finite)),
+            self.max_stress,
+        ];
+        mine.extend(self.lowest.iter().chain(self.highest.iter()));
+        let all = transport.gather_each(&mine);
+        let mut ranks = all.chunks_exact(mine.len()).map(|rank| Self {
+            kinetic_energy: rank[0],
+            gravity_moment: rank[1],
+            finite: rank[2] > 0.0,
+            max_stress: rank[3],
+            lowest: Vector::from_column_slice(&rank[4..4 + D]),
+            highest: Vector::from_column_slice(&rank[4 + D..]),
+        });
+        let first = ranks.next().unwrap_or(*self);
+        ranks.fold(first, |all, rank| Self {
+            kinetic_energy: all.kinetic_energy + rank.kinetic_energy,
+            gravity_moment: all.gravity_moment + rank.gravity_moment,
+            finite: all.finite && rank.finite,
+            max_stress: all.max_stress.max(rank.max_stress),
+            lowest: all.lowest.inf(&rank.lowest),
+            highest: all.highest.sup(&rank.highest),
+        })
     }
 
     /// Whether the bounding box leaves the domain of `limits` on a non-periodic axis.

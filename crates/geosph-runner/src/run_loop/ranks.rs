@@ -1,13 +1,10 @@
 //! The run loop on one rank of a distributed run ([`RunOptions::transport`]): the solver steps
-//! this rank's particles (its own, then its halo); what the run does with *all* particles (the
-//! sample, the frame, the summary, a blow-up's files) works on every particle gathered from
-//! the ranks, in id order, at the times it is needed; the health check runs on each rank's
-//! own particles every step, and the ranks agree on its outcome and on an interrupt.
-//!
-//! Gathering puts every particle on every rank at each sample: simple, and exact (every rank's
-//! observer sees the same particles, so all keep the same state), but its memory is that of
-//! the whole run on each rank. The frames are written in pieces instead (`frames.rs`);
-//! reducing the samples over the ranks is the next step (docs/parallel.md).
+//! this rank's particles (its own, then its halo). The samples are reduced over the ranks
+//! from each rank's [`Share`] (an observer not written for ranks gathers every particle
+//! there); the health check scans each rank's own particles every step and combines the
+//! scans; the frames are written in pieces (`frames.rs`). What needs *every* particle (a free
+//! surface, the summary, a blow-up's or an interrupt's files) gathers them from the ranks, in
+//! id order, at the moment it is needed.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -16,7 +13,9 @@ use geosph_core::{Particles, Real};
 use geosph_scene::Scene;
 use geosph_sph::{Solver, SolverError, Transport};
 
+use crate::health::Scan;
 use crate::options::RunOptions;
+use crate::share::Share;
 use crate::summary::RankLoad;
 
 /// This rank's view of a distributed run.
@@ -24,8 +23,6 @@ pub(super) struct RankView<const D: usize> {
     transport: Arc<dyn Transport + Sync>,
     /// Every particle of the run, in id order, as of the last [`RankView::gather`].
     pub(super) whole: Particles<D>,
-    /// The owned particles of the last step, copied for the health check.
-    owned: Particles<D>,
 }
 
 /// Makes `solver` one rank's share of the run when `options` has a transport of more than
@@ -48,7 +45,6 @@ pub(super) fn distribute<const D: usize>(
     Ok(Some(RankView {
         transport: Arc::clone(transport),
         whole: fluid.clone(),
-        owned: Particles::default(),
     }))
 }
 
@@ -78,26 +74,12 @@ impl<const D: usize> RankView<D> {
     /// Gathers every rank's owned particles of `local` (the first `owned`) into
     /// [`RankView::whole`], in id order (collective).
     pub(super) fn gather(&mut self, local: &Particles<D>, owned: usize) {
-        let width = local.record_width();
-        let mut mine = Vec::with_capacity(owned * width);
-        for i in 0..owned {
-            local.pack(i, &mut mine);
-        }
-        let gathered = self.transport.all_gather(&mine).values;
-        let mut records: Vec<&[Real]> = gathered.chunks_exact(width).collect();
-        // The id follows position, velocity, mass and density.
-        records.sort_unstable_by(|a, b| a[2 * D + 2].total_cmp(&b[2 * D + 2]));
-        self.whole.resize(records.len());
-        for (k, record) in records.into_iter().enumerate() {
-            self.whole.unpack(k, record);
-        }
+        crate::share::gather(&*self.transport, local, owned, &mut self.whole);
     }
 
-    /// This rank's owned particles of `local`, copied (for the health check).
-    pub(super) fn owned(&mut self, local: &Particles<D>, owned: usize) -> &Particles<D> {
-        self.owned.clone_from(local);
-        self.owned.resize(owned);
-        &self.owned
+    /// This rank's share of `local`, its first `owned` particles, for a sample.
+    pub(super) fn share<'a>(&'a mut self, local: &'a Particles<D>, owned: usize) -> Share<'a, D> {
+        Share::of_rank(local, owned, &*self.transport, &mut self.whole)
     }
 
     /// For each flag, whether some rank raised it (collective).
@@ -166,28 +148,26 @@ impl<const D: usize> super::RunLoop<'_, D> {
             .map(|distribution| distribution.owned())
     }
 
-    /// The health check after a step (`health::check`). In a distributed run each rank checks
-    /// its own particles and the ranks agree whether one found trouble; then, and whenever
-    /// `gather` (a sample is due, so that the energy budget, a sum over every
-    /// particle, is checked at least then), every particle is gathered and checked as one
-    /// process would, with the same outcome on every rank. On trouble the failed and last good
-    /// states of every particle (the last good one's owned particles were the first
-    /// `last_good_owned`; `None`: it held every particle) become the loop's, for the report.
+    /// The health check after a step (`health::check`). In a distributed run each rank scans
+    /// its own particles and the scans are combined over the ranks (one collective a step),
+    /// so the energy budget, a sum over every particle, is checked at every step as in one
+    /// process; only when the combined scan is [`health::suspect`](crate::health::suspect)
+    /// is every particle gathered and checked as one process would, with the same outcome on
+    /// every rank. On trouble the failed and last good states of every particle (the last
+    /// good one's owned particles were the first `last_good_owned`; `None`: it held every
+    /// particle) become the loop's, for the report.
     pub(super) fn health(
         &mut self,
         report: &geosph_sph::StepReport,
         last_good_owned: Option<usize>,
-        gather: bool,
     ) -> Option<crate::health::Diagnosis> {
         let owned = self.owned();
         let (solver, limits) = (self.solver.as_ref(), &self.limits);
         let Some(view) = &mut self.ranks else {
             return crate::health::check(report, &self.fluid, solver, limits);
         };
-        let mine = view.owned(&self.fluid, owned);
-        let found = crate::health::check(report, mine, solver, limits).is_some();
-        let [any] = view.any([found]);
-        if !any && !gather {
+        let scan = Scan::of_first(&self.fluid, owned, limits).over_ranks(&*view.transport);
+        if !crate::health::suspect(report, &scan, limits) {
             return None;
         }
         view.gather(&self.fluid, owned);
