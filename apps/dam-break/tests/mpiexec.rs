@@ -135,9 +135,10 @@ fn distributed_probes_levels_and_loads_are_those_of_one_process() {
         assert_eq!(alone.len(), got.len(), "{ranks} ranks: rows");
         // The particles of the runs differ by round-off (the order each particle sums its
         // neighbours, docs/parallel.md), which the front tip and the first wet samples of a
-        // gauge amplify to about 10⁻⁸ of the columns' largest magnitude; a reduction that
-        // missed a rank or counted a halo particle would be off by a whole share. A force's
-        // or moment's components share one scale: the box's symmetry cancels some of them.
+        // gauge amplify to 10⁻⁸–10⁻⁷ of the columns' largest magnitude (measured: 2.3 × 10⁻⁷
+        // on 2 ranks, 2.7 × 10⁻⁸ on 4, both in the moment about the vertical); a reduction
+        // that missed a rank or counted a halo particle would be off by a whole share. A
+        // force's or moment's components share one scale: the box's symmetry cancels some.
         let largest = |columns: &[usize]| {
             let values = alone.iter().flat_map(|row| columns.iter().map(|&c| row[c]));
             values.map(f64::abs).fold(0.0, f64::max)
@@ -155,7 +156,7 @@ fn distributed_probes_levels_and_loads_are_those_of_one_process() {
             for (row, (a, b)) in alone.iter().zip(&got).enumerate() {
                 let (x, y) = (a[column], b[column]);
                 assert!(
-                    (x - y).abs() <= 1e-6 * scale || (x.is_nan() && y.is_nan()),
+                    (x - y).abs() <= 1e-5 * scale || (x.is_nan() && y.is_nan()),
                     "{ranks} ranks, {name} row {row}: {x} against {y} (scale {scale})"
                 );
             }
