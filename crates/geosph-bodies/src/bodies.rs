@@ -267,7 +267,9 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
         } = &self.coupling;
         for body in &mut self.bodies {
             let field = FluidField {
-                fluid,
+                position: &fluid.position,
+                mass: &fluid.mass,
+                density: &fluid.density,
                 pressure,
                 grid: &self.grid,
                 gravity: gravity - body.acceleration,

@@ -1,11 +1,14 @@
 //! Load gauges: the force and moment of the fluid's pressure, or of the soil's stress, on mesh
 //! walls, sampled with the diagnostics.
 
-use geosph_core::{Domain, Particles, Real, Vector};
+use geosph_core::{Domain, Real, Vector};
 use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
 use geosph_neighbours::CellGrid;
 use geosph_scene::LoadSurface;
-use geosph_sph::surface_load::{FluidField, LoadPoint, SoilField, pressure_load, stress_load};
+use geosph_sph::surface_load::{
+    FluidField, LoadPoint, PRESSURE_SUMS, STRESS_SUMS, SoilField, pressure_load_from_sums,
+    pressure_sums, stress_load_from_sums, stress_sums,
+};
 
 use crate::share::Share;
 
@@ -22,6 +25,8 @@ pub struct WallLoads<const D: usize> {
     gravity: Vector<D>,
     background_pressure: Real,
     grid: Option<CellGrid<D>>,
+    /// The extrapolation's sums at every quadrature point of the last sample, reused.
+    sums: Vec<Real>,
 }
 
 impl<const D: usize> WallLoads<D> {
@@ -56,6 +61,7 @@ impl<const D: usize> WallLoads<D> {
             gravity,
             background_pressure,
             grid,
+            sums: Vec::new(),
         }
     }
 
@@ -87,45 +93,81 @@ impl<const D: usize> WallLoads<D> {
         )
     }
 
-    /// [`WallLoads::sample`] at a sample of a run: on several ranks from every particle,
-    /// gathered ([`Share::whole`]), only when the scene has load gauges.
-    pub fn sample_share(&mut self, share: &mut Share<'_, D>, row: &mut Vec<Real>) {
-        if self.grid.is_some() {
-            self.sample(share.whole(), row);
-        }
-    }
-
-    /// Appends each gauge's force (N; 2D: N/m) and moment (N m; 2D: N m/m) to `row`.
-    pub fn sample(&mut self, fluid: &Particles<D>, row: &mut Vec<Real>) {
+    /// Appends each gauge's force (N; 2D: N/m) and moment (N m; 2D: N m/m) to `row`. On
+    /// several ranks each rank sums the extrapolation at every quadrature point over its own
+    /// particles and the sums are added over the ranks (one collective for every gauge), so
+    /// no rank needs the others' particles; NaN for every gauge when the fluid carries no
+    /// pressure or stress, or some rank's particles could not be binned.
+    pub fn sample(&mut self, share: &Share<'_, D>, row: &mut Vec<Real>) {
         let Some(grid) = self.grid.as_mut() else {
             return;
         };
-        let carried = fluid.soil.is_some() || fluid.pressure.is_some();
-        if !carried || grid.build(&fluid.position).is_err() {
+        let (pressure, stress) = (share.pressure(), share.stress());
+        if pressure.is_none() && stress.is_none() {
             row.extend(self.columns.iter().map(|_| Real::NAN));
             return;
         }
-        let grid = &*grid;
-        // Soil first: its stress is what it carries, whatever pressure field it started with.
-        let field = match (&fluid.soil, &fluid.pressure) {
-            (Some(soil), _) => LoadField::Soil(SoilField {
-                soil: fluid,
-                stress: &soil.stress,
-                grid,
-                gravity: self.gravity,
-            }),
-            (None, Some(pressure)) => LoadField::Fluid(FluidField {
-                fluid,
-                pressure,
-                grid,
-                gravity: self.gravity,
-                background_pressure: self.background_pressure,
-            }),
-            (None, None) => unreachable!("checked above"),
+        let per_point = match stress {
+            Some(_) => STRESS_SUMS,
+            None => PRESSURE_SUMS,
         };
+        let points: usize = self.surfaces.iter().map(|s| s.points.len()).sum();
+        self.sums.clear();
+        let binned = grid.build(share.position()).is_ok();
+        if binned {
+            let grid = &*grid;
+            let (position, mass, density) = (share.position(), share.mass(), share.density());
+            // Soil first: its stress is what it carries, whatever pressure field it started
+            // with.
+            let field = match (stress, pressure) {
+                (Some(stress), _) => LoadField::Soil(SoilField {
+                    position,
+                    mass,
+                    density,
+                    stress,
+                    grid,
+                    gravity: self.gravity,
+                }),
+                (None, Some(pressure)) => LoadField::Fluid(FluidField {
+                    position,
+                    mass,
+                    density,
+                    pressure,
+                    grid,
+                    gravity: self.gravity,
+                    background_pressure: self.background_pressure,
+                }),
+                (None, None) => unreachable!("checked above"),
+            };
+            for surface in &self.surfaces {
+                let sums = &mut self.sums;
+                let gauge = Gauge {
+                    surface,
+                    field,
+                    sums,
+                };
+                self.kernel.dispatch(self.smoothing_length, gauge);
+            }
+        } else {
+            self.sums.resize(points * per_point, 0.0);
+        }
+        // The count of ranks that could not bin their particles, summed with the rest.
+        self.sums.push(Real::from(u8::from(!binned)));
+        share.sum_each(&mut self.sums);
+        if self.sums[points * per_point] > 0.0 {
+            row.extend(self.columns.iter().map(|_| Real::NAN));
+            return;
+        }
+        let mut sums = &self.sums[..];
         for surface in &self.surfaces {
-            let gauge = Gauge { surface, field };
-            let (force, moment) = self.kernel.dispatch(self.smoothing_length, gauge);
+            let (here, rest) = sums.split_at(surface.points.len() * per_point);
+            sums = rest;
+            let points = load_points(surface);
+            let about = &surface.about;
+            let (force, moment) = match per_point {
+                STRESS_SUMS => stress_load_from_sums(points, here, about, &self.gravity),
+                _ => pressure_load_from_sums(points, here, about, self.background_pressure),
+            };
             row.extend(force.iter());
             row.extend(if D == 2 {
                 &moment.as_slice()[2..]
@@ -136,6 +178,15 @@ impl<const D: usize> WallLoads<D> {
     }
 }
 
+/// The quadrature points of `surface` as the load integrals take them.
+fn load_points<const D: usize>(surface: &LoadSurface<D>) -> impl Iterator<Item = LoadPoint<D>> {
+    surface.points.iter().map(|point| LoadPoint {
+        position: point.position,
+        normal: point.normal,
+        area: point.area,
+    })
+}
+
 /// What loads a gauge: a fluid's pressure or a soil's stress.
 #[derive(Clone, Copy)]
 enum LoadField<'a, const D: usize> {
@@ -143,26 +194,22 @@ enum LoadField<'a, const D: usize> {
     Soil(SoilField<'a, D>),
 }
 
-/// One gauge's integral, run with whichever kernel the scene names.
+/// One gauge's sums over a set of particles, run with whichever kernel the scene names.
 struct Gauge<'a, const D: usize> {
     surface: &'a LoadSurface<D>,
     field: LoadField<'a, D>,
+    sums: &'a mut Vec<Real>,
 }
 
 impl<const D: usize> KernelVisitor<D> for Gauge<'_, D> {
-    /// The force and the moment (in 2D its z component only is not zero).
-    type Output = (Vector<D>, Vector<3>);
+    /// The extrapolation's sums at each quadrature point, appended to the gauge's `sums`.
+    type Output = ();
 
-    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let points = self.surface.points.iter().map(|point| LoadPoint {
-            position: point.position,
-            normal: point.normal,
-            area: point.area,
-        });
-        let about = &self.surface.about;
+    fn visit<K: Kernel<D>>(self, kernel: K) {
+        let points = load_points(self.surface);
         match &self.field {
-            LoadField::Fluid(field) => pressure_load(&kernel, field, points, about),
-            LoadField::Soil(field) => stress_load(&kernel, field, points, about),
+            LoadField::Fluid(field) => pressure_sums(&kernel, field, points, self.sums),
+            LoadField::Soil(field) => stress_sums(&kernel, field, points, self.sums),
         }
     }
 }

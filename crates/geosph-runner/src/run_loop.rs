@@ -382,7 +382,7 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         self.observer.sample_share(time, &mut share, &mut self.row);
         self.probes.sample(&share, &mut self.row);
         self.heights.sample(&share, &mut self.row);
-        self.loads.sample_share(&mut share, &mut self.row);
+        self.loads.sample(&share, &mut self.row);
         if let Some(motion) = self.solver.wall_motion() {
             motion.sample(&mut self.row);
         }

@@ -2,7 +2,7 @@
 //! collectives that combine partial results over the ranks (every particle, and no
 //! collective, in one process).
 
-use geosph_core::{Particles, Real, Vector};
+use geosph_core::{Particles, Real, Tensor3, Vector};
 use geosph_sph::Transport;
 
 /// This rank's share of the particles at a sample, and how a result over them becomes the
@@ -94,6 +94,12 @@ impl<'a, const D: usize> Share<'a, D> {
     /// Pressures, Pa, when the particles carry them.
     pub fn pressure(&self) -> Option<&[Real]> {
         self.local.pressure.as_deref().map(|p| &p[..self.owned])
+    }
+
+    /// Soil stresses σ (Pa, tension positive), when the particles are soil.
+    pub fn stress(&self) -> Option<&[Tensor3]> {
+        let soil = self.local.soil.as_ref()?;
+        Some(&soil.stress[..self.owned])
     }
 
     /// Adds each of `values` over the ranks, in rank order, in place (nothing in one process).

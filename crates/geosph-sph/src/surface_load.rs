@@ -1,7 +1,7 @@
 //! The force and moment of the fluid's pressure, or of the soil's stress, on a surface: the
 //! load gauges on fixed walls and the fluid force on rigid bodies.
 
-use geosph_core::{Particles, Real, Tensor3, Vector};
+use geosph_core::{Real, Tensor3, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::CellGrid;
 
@@ -21,11 +21,15 @@ pub struct LoadPoint<const D: usize> {
 /// least one kernel support wide (built by the caller at the particles' current positions).
 #[derive(Clone, Copy)]
 pub struct FluidField<'a, const D: usize> {
-    /// The fluid particles.
-    pub fluid: &'a Particles<D>,
+    /// The fluid particles' positions x_j.
+    pub position: &'a [Vector<D>],
+    /// Their masses m_j.
+    pub mass: &'a [Real],
+    /// Their densities ρ_j.
+    pub density: &'a [Real],
     /// Their pressure p_j.
     pub pressure: &'a [Real],
-    /// `fluid`'s positions binned.
+    /// `position` binned.
     pub grid: &'a CellGrid<D>,
     /// Gravity g, for the hydrostatic part of the extrapolation.
     pub gravity: Vector<D>,
@@ -54,27 +58,79 @@ pub fn pressure_load<const D: usize, K: Kernel<D>>(
     points: impl IntoIterator<Item = LoadPoint<D>>,
     about: &Vector<D>,
 ) -> (Vector<D>, Vector<3>) {
-    let Particles {
+    integrate(points, about, |point| {
+        let sums = pressure_point_sums(kernel, field, point);
+        pressure_traction(point, sums, field.background_pressure)
+    })
+}
+
+/// The sums of [`pressure_load`]'s extrapolation at each of `points`, appended to `sums`
+/// ([`PRESSURE_SUMS`] per point): Σ_j V_j W_qj (p_j + ρ_j g·(x_q − x_j)) and Σ_j V_j W_qj over
+/// the particles of `field.grid`. Sums over parts of the particles (one rank's each) add up
+/// to the sums over all of them; [`pressure_load_from_sums`] then gives the load.
+pub fn pressure_sums<const D: usize, K: Kernel<D>>(
+    kernel: &K,
+    field: &FluidField<'_, D>,
+    points: impl IntoIterator<Item = LoadPoint<D>>,
+    sums: &mut Vec<Real>,
+) {
+    for point in points {
+        sums.extend_from_slice(&pressure_point_sums(kernel, field, &point));
+    }
+}
+
+/// Values per point of [`pressure_sums`].
+pub const PRESSURE_SUMS: usize = 2;
+
+/// [`pressure_load`] from the sums of [`pressure_sums`] over every particle, for the same
+/// `points`, with the background pressure `background_pressure`.
+pub fn pressure_load_from_sums<const D: usize>(
+    points: impl IntoIterator<Item = LoadPoint<D>>,
+    sums: &[Real],
+    about: &Vector<D>,
+    background_pressure: Real,
+) -> (Vector<D>, Vector<3>) {
+    let mut at = sums.chunks_exact(PRESSURE_SUMS);
+    integrate(points, about, |point| {
+        let sums = at.next().expect("sums for every point");
+        pressure_traction(point, [sums[0], sums[1]], background_pressure)
+    })
+}
+
+/// [`pressure_sums`] at one point.
+fn pressure_point_sums<const D: usize, K: Kernel<D>>(
+    kernel: &K,
+    field: &FluidField<'_, D>,
+    point: &LoadPoint<D>,
+) -> [Real; PRESSURE_SUMS] {
+    let FluidField {
         position,
         mass,
         density,
         ..
-    } = field.fluid;
-    integrate(points, about, |point| {
-        let (mut weighted, mut weights) = (0.0, 0.0);
-        field
-            .grid
-            .for_each_neighbour(position, &point.position, |j, x_qj, r| {
-                let j = j as usize;
-                let w = mass[j] / density[j] * kernel.value(r);
-                let hydrostatic = density[j] * field.gravity.dot(&x_qj);
-                weighted += w * (field.pressure[j] + hydrostatic);
-                weights += w;
-            });
-        (weights > 0.0).then(|| {
-            let pressure = weighted / weights - field.background_pressure;
-            point.normal * -pressure.max(0.0)
-        })
+    } = field;
+    let (mut weighted, mut weights) = (0.0, 0.0);
+    field
+        .grid
+        .for_each_neighbour(position, &point.position, |j, x_qj, r| {
+            let j = j as usize;
+            let w = mass[j] / density[j] * kernel.value(r);
+            let hydrostatic = density[j] * field.gravity.dot(&x_qj);
+            weighted += w * (field.pressure[j] + hydrostatic);
+            weights += w;
+        });
+    [weighted, weights]
+}
+
+/// The traction at `point` from its [`pressure_sums`]; `None` where it is dry.
+fn pressure_traction<const D: usize>(
+    point: &LoadPoint<D>,
+    [weighted, weights]: [Real; PRESSURE_SUMS],
+    background_pressure: Real,
+) -> Option<Vector<D>> {
+    (weights > 0.0).then(|| {
+        let pressure = weighted / weights - background_pressure;
+        point.normal * -pressure.max(0.0)
     })
 }
 
@@ -82,11 +138,15 @@ pub fn pressure_load<const D: usize, K: Kernel<D>>(
 /// at least one kernel support wide (built by the caller at the particles' current positions).
 #[derive(Clone, Copy)]
 pub struct SoilField<'a, const D: usize> {
-    /// The soil particles.
-    pub soil: &'a Particles<D>,
+    /// The soil particles' positions x_j.
+    pub position: &'a [Vector<D>],
+    /// Their masses m_j.
+    pub mass: &'a [Real],
+    /// Their densities ρ_j.
+    pub density: &'a [Real],
     /// Their Cauchy stress σ_j (tension positive; 3 × 3 also in 2D plane strain).
     pub stress: &'a [Tensor3],
-    /// `soil`'s positions binned.
+    /// `position` binned.
     pub grid: &'a CellGrid<D>,
     /// Gravity g, for the weight of the soil between a particle and the surface.
     pub gravity: Vector<D>,
@@ -113,41 +173,104 @@ pub fn stress_load<const D: usize, K: Kernel<D>>(
     points: impl IntoIterator<Item = LoadPoint<D>>,
     about: &Vector<D>,
 ) -> (Vector<D>, Vector<3>) {
-    let Particles {
+    let gravity = field.gravity;
+    integrate(points, about, |point| {
+        stress_traction(point, &stress_point_sums(kernel, field, point), &gravity)
+    })
+}
+
+/// Values per point of [`stress_sums`].
+pub const STRESS_SUMS: usize = 11;
+
+/// The sums of [`stress_load`]'s extrapolation at each of `points`, appended to `sums`
+/// ([`STRESS_SUMS`] per point): the nine components of Σ_j V_j W_qj σ_j, the head
+/// −Σ_j V_j W_qj ρ_j g·(x_q − x_j) and Σ_j V_j W_qj, over the particles of `field.grid`. Sums
+/// over parts of the particles add up to the sums over all of them;
+/// [`stress_load_from_sums`] then gives the load.
+pub fn stress_sums<const D: usize, K: Kernel<D>>(
+    kernel: &K,
+    field: &SoilField<'_, D>,
+    points: impl IntoIterator<Item = LoadPoint<D>>,
+    sums: &mut Vec<Real>,
+) {
+    for point in points {
+        sums.extend_from_slice(&stress_point_sums(kernel, field, &point));
+    }
+}
+
+/// [`stress_load`] from the sums of [`stress_sums`] over every particle, for the same
+/// `points`, with gravity `gravity`.
+pub fn stress_load_from_sums<const D: usize>(
+    points: impl IntoIterator<Item = LoadPoint<D>>,
+    sums: &[Real],
+    about: &Vector<D>,
+    gravity: &Vector<D>,
+) -> (Vector<D>, Vector<3>) {
+    let mut at = sums.chunks_exact(STRESS_SUMS);
+    integrate(points, about, |point| {
+        let point_sums: &[Real; STRESS_SUMS] = at
+            .next()
+            .and_then(|chunk| chunk.try_into().ok())
+            .expect("sums for every point");
+        stress_traction(point, point_sums, gravity)
+    })
+}
+
+/// [`stress_sums`] at one point.
+fn stress_point_sums<const D: usize, K: Kernel<D>>(
+    kernel: &K,
+    field: &SoilField<'_, D>,
+    point: &LoadPoint<D>,
+) -> [Real; STRESS_SUMS] {
+    let SoilField {
         position,
         mass,
         density,
         ..
-    } = field.soil;
-    let g = field.gravity.norm();
+    } = field;
+    let (mut weighted, mut weights) = (Tensor3::zeros(), 0.0);
+    let mut head = 0.0;
+    field
+        .grid
+        .for_each_neighbour(position, &point.position, |j, x_qj, r| {
+            let j = j as usize;
+            let w = mass[j] / density[j] * kernel.value(r);
+            weighted += field.stress[j] * w;
+            head -= w * density[j] * field.gravity.dot(&x_qj);
+            weights += w;
+        });
+    let mut sums = [0.0; STRESS_SUMS];
+    sums[..9].copy_from_slice(weighted.as_slice());
+    sums[9] = head;
+    sums[10] = weights;
+    sums
+}
+
+/// The traction at `point` from its [`stress_sums`]; `None` where no soil is near or the
+/// normal traction would pull.
+fn stress_traction<const D: usize>(
+    point: &LoadPoint<D>,
+    sums: &[Real; STRESS_SUMS],
+    gravity: &Vector<D>,
+) -> Option<Vector<D>> {
+    let weights = sums[10];
+    if weights <= 0.0 {
+        return None;
+    }
+    let g = gravity.norm();
     let down = Vector::<3>::from_fn(|k, _| {
         if k < D && g > 0.0 {
-            field.gravity[k] / g
+            gravity[k] / g
         } else {
             0.0
         }
     });
     let vertical = down * down.transpose();
-    integrate(points, about, |point| {
-        let (mut weighted, mut weights) = (Tensor3::zeros(), 0.0);
-        let mut head = 0.0;
-        field
-            .grid
-            .for_each_neighbour(position, &point.position, |j, x_qj, r| {
-                let j = j as usize;
-                let w = mass[j] / density[j] * kernel.value(r);
-                weighted += field.stress[j] * w;
-                head -= w * density[j] * field.gravity.dot(&x_qj);
-                weights += w;
-            });
-        if weights <= 0.0 {
-            return None;
-        }
-        let stress = (weighted + vertical * head) / weights;
-        let traction =
-            Vector::<D>::from_fn(|a, _| (0..D).map(|b| stress[(a, b)] * point.normal[b]).sum());
-        (traction.dot(&point.normal) <= 0.0).then_some(traction)
-    })
+    let weighted = Tensor3::from_column_slice(&sums[..9]);
+    let stress = (weighted + vertical * sums[9]) / weights;
+    let traction =
+        Vector::<D>::from_fn(|a, _| (0..D).map(|b| stress[(a, b)] * point.normal[b]).sum());
+    (traction.dot(&point.normal) <= 0.0).then_some(traction)
 }
 
 /// Σ_q t_q A_q and Σ_q (x_q − x_c) × t_q A_q over `points`, with `traction` the force per area
@@ -180,6 +303,7 @@ pub fn cross<const D: usize>(a: &Vector<D>, b: &Vector<D>) -> Vector<3> {
 mod tests {
     use super::*;
     use geosph_core::Domain;
+    use geosph_core::Particles;
     use geosph_kernels::WendlandC2;
 
     /// Water at rest below z = 1 (hydrostatic pressure) loads the bottom face of a 2D
@@ -199,7 +323,9 @@ mod tests {
         let mut grid = CellGrid::new(domain, kernel.support_radius()).unwrap();
         grid.build(&fluid.position).unwrap();
         let field = FluidField {
-            fluid: &fluid,
+            position: &fluid.position,
+            mass: &fluid.mass,
+            density: &fluid.density,
             pressure: &pressure,
             grid: &grid,
             gravity: Vector::<2>::new(0.0, -g),
