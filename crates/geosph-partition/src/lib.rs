@@ -13,14 +13,17 @@
 //!
 //! Nothing here communicates: the plans say what to send where, and a [`Transport`] (MPI, in
 //! `geosph-mpi`) moves the records. So the decomposition is tested in one process, every rank
-//! simulated.
+//! simulated; [`ThreadRanks`] is a transport whose ranks are threads of one process, for tests
+//! of code that calls the collectives (the runner's samples reduced over the ranks).
 
 mod partition;
 mod plan;
 #[cfg(test)]
 mod tests;
+mod threads;
 mod transport;
 
 pub use partition::{Cells, Partition, PartitionError, imbalance};
 pub use plan::{ExchangePlan, halo_plan, migration_plan};
+pub use threads::ThreadRanks;
 pub use transport::{OneRank, Received, Transport};

@@ -181,36 +181,4 @@ pub(crate) fn gather<const D: usize>(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use geosph_partition::OneRank;
-
-    #[test]
-    fn one_process_and_one_rank_leave_partial_results_as_they_are() {
-        let fluid = Particles::at_rest(vec![Vector::<2>::new(0.5, 0.25)], 2.0, 1000.0);
-        let share = Share::whole_run(&fluid);
-        let mut values = [0.1 + 0.2, -0.0];
-        share.sum_each(&mut values);
-        assert_eq!(
-            values.map(Real::to_bits),
-            [0.1 + 0.2, -0.0].map(Real::to_bits)
-        );
-        assert_eq!(share.gather(&[3.0]), [3.0]);
-
-        // A distributed share on one rank adds nothing to its own partial sums either (no
-        // 0.0 + x, which would turn −0 into +0).
-        let mut whole = Particles::default();
-        let mut share = Share::of_rank(&fluid, 1, &OneRank, &mut whole);
-        share.sum_each(&mut values);
-        assert_eq!(
-            values.map(Real::to_bits),
-            [0.1 + 0.2, -0.0].map(Real::to_bits)
-        );
-        let mut extremes = [1.0, 2.0];
-        share.max_each(&mut extremes);
-        share.min_each(&mut extremes);
-        assert_eq!(extremes, [1.0, 2.0]);
-        assert_eq!(share.whole().position, fluid.position);
-        assert_eq!(share.position().len(), 1);
-    }
-}
+mod tests;
