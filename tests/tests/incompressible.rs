@@ -413,20 +413,22 @@ fn still_tank_3d_iisph_converges_with_the_relaxation_limit() {
 }
 
 /// The first step of the dam break with the cubic spline at h = dx (SPlisHSPlasH's kernel and
-/// support, 2 wall layers), dx = 0.015 m, DFSPH at a 1 % target: Δt is the 0.005 s bound and
-/// the mean compression reaches the target after the two least iterations while pairs of
-/// particles in the column close to 0.76 dx. Without a bound on any one particle's predicted
-/// compression the run stopped at step 1 on 21.3 % (the health bound is 20 %); with the
-/// default 10 % bound (`max_compression`) the solve iterates on until no particle exceeds it.
+/// support, 2 wall layers), dx = 0.015 m, DFSPH at a 1 % target: Δt is the 0.005 s bound and,
+/// with the masked warm start and the mean target alone, the run stopped at step 1 on 21.3 %
+/// compression (pairs of particles in the column closed to 0.76 dx; the health bound is
+/// 20 %). The bound on any one particle's predicted compression (`max_compression`, 10 %)
+/// mended that first; the release solve (the first solve may lower the initial pressure and
+/// stops on the complementarity error, `docs/incompressible.md`) now holds it with the bound
+/// off as well (measured: 2.8 % with either).
 #[test]
-fn dfsph_first_step_bounds_local_compression() {
+fn dfsph_first_step_holds_local_compression() {
     let scene = dam_break::DEFAULT_SCENE
         .replace("\"wendland-c2\"", "\"cubic-spline\"")
         .replace("smoothing_ratio: 1.3", "smoothing_ratio: 1.0")
         .replace("layers: 3", "layers: 2");
     let mut scene = Scene::from_ron(&scene).unwrap();
     (scene.dx, scene.end_time, scene.output.vtk) = (0.015, 0.03, false);
-    let run_with = |max_compression: Real| {
+    for max_compression in [1.0, 0.1] {
         let mut scene = scene.clone();
         scene.solver = Scene::from_ron(&format!(
             "Scene(name: \"s\", dimension: 2, dx: 1.0, end_time: 1.0,
@@ -434,16 +436,13 @@ fn dfsph_first_step_bounds_local_compression() {
         ))
         .unwrap()
         .solver;
-        dam_break::run(&scene, &RunOptions::default())
-    };
-    let error = run_with(1.0).expect_err("without the bound the first step blows up");
-    println!("bound off: {error}");
-    assert!(error.to_string().contains("step 1"), "{error}");
-    let report = run_with(0.1).unwrap_or_else(|error| panic!("bound on: {error}"));
-    println!("bound on:\n{}", report.summary);
-    assert!(
-        report.summary.max_density_error < 0.15,
-        "max compression {:.2} %",
-        100.0 * report.summary.max_density_error
-    );
+        let report = dam_break::run(&scene, &RunOptions::default())
+            .unwrap_or_else(|error| panic!("max_compression {max_compression}: {error}"));
+        println!("max_compression {max_compression}:\n{}", report.summary);
+        assert!(
+            report.summary.max_density_error < 0.15,
+            "max_compression {max_compression}: max compression {:.2} %",
+            100.0 * report.summary.max_density_error
+        );
+    }
 }

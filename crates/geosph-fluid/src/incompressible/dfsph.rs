@@ -28,6 +28,14 @@ use geosph_sph::{SolverError, StateArrays, StateError};
 /// so a warm start where no pressure is needed could never be relaxed: the initial
 /// hydrostatic pressure on the free face of a dam break, where the exact pressure drops to
 /// zero at release, kicked those particles to 3 m/s in the first step.
+///
+/// The first constant-density solve (the *release*, our addition: `docs/incompressible.md`)
+/// starts from half the initial pressure on every particle that can take pressure and may
+/// lower it: a projected, relaxed Jacobi iteration, p_i ← max(p_i + ω δp_i, 0) with the
+/// unclamped residual and ω of [`PressureSystem::relaxation_limit`], stopping on the
+/// complementarity error as [`Iisph`](super::Iisph) does. The masked warm start would leave a
+/// jump of ½ ρ₀ g (H − z) two rows inside a free face, which the clamped increments cannot
+/// lower and which kicked the face outward at a speed ∝ 1/dx.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Dfsph {
     /// Run the divergence-free solve (default true).
@@ -40,6 +48,8 @@ pub struct Dfsph {
     divergence_pressure: Vec<Real>,
     /// Increments of the current iteration.
     increment: Vec<Real>,
+    /// Whether the first constant-density solve (the release) has been made.
+    released: bool,
 }
 
 impl Dfsph {
@@ -51,6 +61,7 @@ impl Dfsph {
             density_pressure: Vec::new(),
             divergence_pressure: Vec::new(),
             increment: Vec::new(),
+            released: false,
         }
     }
 }
@@ -90,11 +101,15 @@ impl Dfsph {
         scratch: &mut Scratch<D>,
         summed: &mut [Real],
         increment: &mut [Real],
+        release: bool,
     ) -> SolveReport {
         let rho0 = system.rest_density;
         // The residual, clamped unless pressures may be negative: predicted compression, or
         // compression rate.
-        let floor = if settings.negative_pressure {
+        // The release (the first solve, from the initial pressure) may lower pressures: a
+        // projected iteration, p ≥ 0 kept by the increments, unless they may be negative.
+        let projected = release && !settings.negative_pressure;
+        let floor = if settings.negative_pressure || projected {
             Real::NEG_INFINITY
         } else {
             0.0
@@ -147,7 +162,9 @@ impl Dfsph {
                 .for_each(|(i, (p, term))| {
                     let div = system.divergence_at(i, mass, velocity, walls_velocity);
                     let rho_i = density[i];
-                    *p = if diagonal[i] > 0.0 && residual_of(rho_i, div) != 0.0 {
+                    *p = if release && diagonal[i] > 0.0 {
+                        *p * WARM_START
+                    } else if diagonal[i] > 0.0 && residual_of(rho_i, div) != 0.0 {
                         *p * WARM_START
                     } else {
                         0.0
@@ -171,7 +188,7 @@ impl Dfsph {
         // A clamped solve only raises pressures and cannot overshoot into oscillation; a
         // two-sided one is a Jacobi iteration whose stiffest (checkerboard) mode grows unless
         // relaxed to the system's limit.
-        let scale = if settings.negative_pressure {
+        let scale = if settings.negative_pressure || projected {
             scale * system.relaxation_limit().min(1.0)
         } else {
             scale
@@ -181,6 +198,7 @@ impl Dfsph {
             // The residual, the increment it asks for and the increment's p/ρ², in one pass.
             {
                 let velocity = &*velocity;
+                let summed_now = &*summed;
                 residual
                     .par_iter_mut()
                     .zip(increment.par_iter_mut())
@@ -196,14 +214,26 @@ impl Dfsph {
                         } else {
                             0.0
                         };
+                        if projected {
+                            // The pressure may fall, to zero at the least.
+                            *dp = dp.max(-summed_now[i]);
+                        }
                         *term = *dp / (rho_i * rho_i);
                     });
             }
-            let (mean, max) = system.error_over_ranks(super::errors::residual_error(
-                &residual[..owned],
-                &diagonal[..owned],
-                settings.negative_pressure,
-            ));
+            let error = match projected {
+                true => super::errors::complementarity_error(
+                    &residual[..owned],
+                    &summed[..owned],
+                    &diagonal[..owned],
+                ),
+                false => super::errors::residual_error(
+                    &residual[..owned],
+                    &diagonal[..owned],
+                    settings.negative_pressure,
+                ),
+            };
+            let (mean, max) = system.error_over_ranks(error);
             report.error = mean * error_scale;
             if report.iterations >= settings.min_iterations
                 && report.error <= target
@@ -250,6 +280,8 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
             // The first step starts from the initial (hydrostatic) pressure.
             self.density_pressure.clone_from(pressure);
         }
+        let release = !self.released;
+        self.released = true;
         Self::solve(
             system,
             fluid,
@@ -260,6 +292,7 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
             scratch,
             &mut self.density_pressure,
             &mut self.increment,
+            release,
         )
     }
 
@@ -291,6 +324,7 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
             scratch,
             &mut self.divergence_pressure,
             &mut self.increment,
+            false,
         );
         self.report_pressure(fluid);
         report
@@ -322,6 +356,7 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
     fn restore_state(&mut self, arrays: &mut StateArrays) -> Result<(), StateError> {
         self.density_pressure = arrays.take("density_pressure")?;
         self.divergence_pressure = arrays.take("divergence_pressure")?;
+        self.released = true;
         Ok(())
     }
 }
