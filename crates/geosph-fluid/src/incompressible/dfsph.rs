@@ -150,8 +150,8 @@ impl Dfsph {
                     }
                 });
         };
-        // Warm start where the particle is compressed (its rate) before any pressure acts and
-        // can take pressure (a non-zero diagonal).
+        // Warm start where the particle can take pressure (a non-zero diagonal) and, but at the
+        // release, is compressed (its rate) before any pressure acts.
         {
             let velocity = &*velocity;
             summed
@@ -162,9 +162,8 @@ impl Dfsph {
                 .for_each(|(i, (p, term))| {
                     let div = system.divergence_at(i, mass, velocity, walls_velocity);
                     let rho_i = density[i];
-                    *p = if release && diagonal[i] > 0.0 {
-                        *p * WARM_START
-                    } else if diagonal[i] > 0.0 && residual_of(rho_i, div) != 0.0 {
+                    let warm = release || residual_of(rho_i, div) != 0.0;
+                    *p = if diagonal[i] > 0.0 && warm {
                         *p * WARM_START
                     } else {
                         0.0
