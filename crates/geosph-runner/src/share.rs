@@ -15,7 +15,7 @@ use geosph_sph::Transport;
 ///
 /// - [`Share::sum_each`] adds the ranks' partial sums in rank order (the same on every rank;
 ///   within round-off of one process, which sums in its own order),
-/// - [`Share::max_each`] and [`Share::min_each`] are exact,
+/// - [`Share::max_each`] is exact,
 /// - [`Share::gather`] concatenates short lists (the particles near a gauge line), which the
 ///   caller sorts,
 /// - [`Share::whole`] gathers every particle, in id order, once per sample however many
@@ -120,15 +120,6 @@ impl<'a, const D: usize> Share<'a, D> {
     pub fn max_each(&self, values: &mut [Real]) {
         if let Some(ranks) = &self.ranks {
             ranks.transport.max_each(values);
-        }
-    }
-
-    /// The smallest of each of `values` over the ranks, in place (exact).
-    pub fn min_each(&self, values: &mut [Real]) {
-        if let Some(ranks) = &self.ranks {
-            values.iter_mut().for_each(|v| *v = -*v);
-            ranks.transport.max_each(values);
-            values.iter_mut().for_each(|v| *v = -*v);
         }
     }
 
