@@ -4,11 +4,13 @@
 use std::ops::Range;
 
 use geosph_boundary::WallParticles;
-use geosph_core::{Domain, Particles, Real, Vector};
+use geosph_core::{Domain, Real, Vector};
 use geosph_kernels::{Kernel, KernelKind, KernelVisitor};
 use geosph_neighbours::CellGrid;
-use geosph_sph::surface_load::{FluidField, LoadPoint, pressure_load};
-use geosph_sph::{MotionError, WallMotion};
+use geosph_sph::surface_load::{
+    FluidField, LoadPoint, PRESSURE_SUMS, pressure_load_from_sums, pressure_sums,
+};
+use geosph_sph::{FlowShare, MotionError, WallMotion};
 
 use crate::world::{FixedShape, MassProperties, Motion, World};
 
@@ -81,6 +83,18 @@ struct Body<const D: usize> {
 }
 
 impl<const D: usize> Body<D> {
+    /// Its surface's quadrature points where its motion has them.
+    fn surface_now(&self) -> impl Iterator<Item = LoadPoint<D>> + '_ {
+        let Motion {
+            centre, rotation, ..
+        } = self.motion;
+        self.surface.iter().map(move |p| LoadPoint {
+            position: centre + rotation * p.position,
+            normal: rotation * p.normal,
+            area: p.area,
+        })
+    }
+
     /// Puts its wall particles where its motion has them, with the velocity and acceleration
     /// of those points of the body.
     fn place(&self, walls: &mut WallParticles<D>) {
@@ -117,6 +131,9 @@ pub struct RigidBodies<const D: usize> {
     bodies: Vec<Body<D>>,
     coupling: Coupling<D>,
     grid: CellGrid<D>,
+    /// The pressure extrapolation's sums at every body's surface points, in body order
+    /// (reused from step to step).
+    sums: Vec<Real>,
 }
 
 impl<const D: usize> RigidBodies<D> {
@@ -173,6 +190,7 @@ impl<const D: usize> RigidBodies<D> {
             bodies: built,
             coupling,
             grid,
+            sums: Vec::new(),
         })
     }
 
@@ -222,25 +240,19 @@ fn lift<const D: usize>(v: &Vector<D>) -> Vector<3> {
     Vector::<3>::from_fn(|k, _| if k < D { v[k] } else { 0.0 })
 }
 
-/// The pressure load on one body, with whichever kernel the scene names.
-struct Load<'a, const D: usize> {
+/// The sums of the pressure extrapolation at one body's surface ([`pressure_sums`]), with
+/// whichever kernel the scene names.
+struct LoadSums<'a, const D: usize> {
     field: FluidField<'a, D>,
     body: &'a Body<D>,
+    sums: &'a mut Vec<Real>,
 }
 
-impl<const D: usize> KernelVisitor<D> for Load<'_, D> {
-    type Output = (Vector<D>, Vector<3>);
+impl<const D: usize> KernelVisitor<D> for LoadSums<'_, D> {
+    type Output = ();
 
-    fn visit<K: Kernel<D>>(self, kernel: K) -> Self::Output {
-        let Motion {
-            centre, rotation, ..
-        } = self.body.motion;
-        let points = self.body.surface.iter().map(|p| LoadPoint {
-            position: centre + rotation * p.position,
-            normal: rotation * p.normal,
-            area: p.area,
-        });
-        pressure_load(&kernel, &self.field, points, &centre)
+    fn visit<K: Kernel<D>>(self, kernel: K) {
+        pressure_sums(&kernel, &self.field, self.body.surface_now(), self.sums);
     }
 }
 
@@ -248,16 +260,18 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
     fn advance(
         &mut self,
         dt: Real,
-        fluid: &Particles<D>,
+        flow: FlowShare<'_, D>,
         walls: &mut WallParticles<D>,
     ) -> Result<(), MotionError> {
+        let (fluid, owned) = (flow.particles, flow.owned);
         let pressure = fluid
             .pressure
             .as_deref()
             .ok_or_else(|| MotionError::Failed("rigid bodies need the fluid's pressure".into()))?;
         // A particle outside the domain fails here, before any body moved: the step is
         // retaken without it.
-        self.grid.build(&fluid.position)?;
+        let position = &fluid.position[..owned];
+        self.grid.build(position)?;
         let Coupling {
             kernel,
             smoothing_length,
@@ -265,17 +279,31 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
             background_pressure,
             ..
         } = &self.coupling;
-        for body in &mut self.bodies {
+        // Each rank sums over the particles it owns; the ranks' sums, added in rank order,
+        // are those over every particle, and every rank moves the bodies alike.
+        self.sums.clear();
+        for body in &self.bodies {
             let field = FluidField {
-                position: &fluid.position,
-                mass: &fluid.mass,
-                density: &fluid.density,
-                pressure,
+                position,
+                mass: &fluid.mass[..owned],
+                density: &fluid.density[..owned],
+                pressure: &pressure[..owned],
                 grid: &self.grid,
                 gravity: gravity - body.acceleration,
                 background_pressure: *background_pressure,
             };
-            let (force, torque) = kernel.dispatch(*smoothing_length, Load { field, body });
+            let sums = &mut self.sums;
+            kernel.dispatch(*smoothing_length, LoadSums { field, body, sums });
+        }
+        flow.sum_over_ranks(&mut self.sums);
+        let mut start = 0;
+        for body in &mut self.bodies {
+            let end = start + PRESSURE_SUMS * body.surface.len();
+            let centre = body.motion.centre;
+            let sums = &self.sums[start..end];
+            start = end;
+            let (force, torque) =
+                pressure_load_from_sums(body.surface_now(), sums, &centre, *background_pressure);
             body.force = force;
             self.world.set_load(body.index, &force, &torque);
         }

@@ -296,6 +296,12 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
     fn finish_stage(&mut self, fluid: &mut Particles<D>) {
         self.update_pressure(fluid);
     }
+
+    /// The halo's state from its owners: the last stage moved every particle of this rank by
+    /// its own rates, which are right within one support of the owned particles only.
+    fn begin_stage(&mut self, fluid: &mut Particles<D>) {
+        self.lists.exchange_halo(fluid);
+    }
 }
 
 /// The pair loop of one rate evaluation: dv_i/dt and dρ_i/dt of every particle, dispatched

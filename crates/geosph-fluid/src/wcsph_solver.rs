@@ -4,10 +4,10 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_kernels::Kernel;
 use geosph_sph::{
-    Distribution, Solver, SolverError, SolverState, StepReport, Transport, WallMotion,
+    Distribution, FlowShare, Solver, SolverError, SolverState, StepReport, Transport, WallMotion,
     density_errors, event_step, keep_out_of_walls, max_speed, restore_wall_motion,
 };
-use geosph_time::{Integrator, Rates, Scheme, StepLimits, time_step};
+use geosph_time::{Integrator, Rates, StepLimits, time_step};
 
 use crate::wcsph::WcsphSystem;
 
@@ -99,7 +99,11 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             &mut fluid.velocity[..owned],
         );
         if let Some(motion) = &mut self.motion {
-            motion.advance(dt, fluid, &mut self.system.walls)?;
+            motion.advance(
+                dt,
+                FlowShare::of(fluid, &self.system.lists),
+                &mut self.system.walls,
+            )?;
         }
         self.steps += 1;
         let (mean, max) = density_errors(&fluid.density[..owned], self.system.eos.rest_density);
@@ -122,7 +126,6 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
     }
 
     fn set_wall_motion(&mut self, motion: Box<dyn WallMotion<D>>) -> Result<(), SolverError> {
-        self.system.lists.single_process("a rigid body")?;
         self.system.lists.walls_move();
         self.motion = Some(motion);
         Ok(())
@@ -137,15 +140,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         _fluid: &mut Particles<D>,
         transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
-        self.system.lists.can_distribute(self.motion.is_some())?;
-        // The multi-stage schemes evaluate rates between stages without the update that
-        // refreshes the halo.
-        let scheme = self.integrator.scheme();
-        if matches!(scheme, Scheme::PredictorCorrector | Scheme::RungeKutta4) {
-            return Err(SolverError::NotDistributed(format!(
-                "the {scheme:?} integrator does not run on several ranks yet: use leap-frog (the default) or symplectic Euler"
-            )));
-        }
+        self.system.lists.can_distribute()?;
         self.system.lists.distribute(transport)?;
         Ok(())
     }

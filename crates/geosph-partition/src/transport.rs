@@ -66,6 +66,21 @@ pub trait Transport: Send {
         self.gather_each(&[value]).iter().sum()
     }
 
+    /// Each of `values` summed over the ranks, in place, added in rank order from rank 0's
+    /// (one collective for several sums; the same on every rank, and on one rank `values`
+    /// itself, bit for bit).
+    fn sum_each(&self, values: &mut [Real]) {
+        let count = values.len();
+        let all = self.gather_each(values);
+        for (k, value) in values.iter_mut().enumerate() {
+            let mut per_rank = all[k..].iter().step_by(count.max(1));
+            *value = per_rank.next().copied().unwrap_or(0.0);
+            for partial in per_rank {
+                *value += partial;
+            }
+        }
+    }
+
     /// Ends every rank of the run with exit status `code`: for an error some ranks met and
     /// others did not, which would leave those waiting in their next exchange.
     fn abort(&self, code: i32) -> ! {

@@ -104,15 +104,8 @@ impl<'a, const D: usize> Share<'a, D> {
 
     /// Adds each of `values` over the ranks, in rank order, in place (nothing in one process).
     pub fn sum_each(&self, values: &mut [Real]) {
-        let Some(ranks) = &self.ranks else { return };
-        let count = values.len();
-        let all = ranks.transport.gather_each(values);
-        for (k, value) in values.iter_mut().enumerate() {
-            let mut per_rank = all[k..].iter().step_by(count);
-            *value = per_rank.next().copied().unwrap_or(0.0);
-            for partial in per_rank {
-                *value += partial;
-            }
+        if let Some(ranks) = &self.ranks {
+            ranks.transport.sum_each(values);
         }
     }
 

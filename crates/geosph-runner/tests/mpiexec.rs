@@ -1,4 +1,5 @@
-//! Issue 26's validation: the 2D dam break (WCSPH, PCISPH, IISPH and DFSPH) and the soil
+//! Issue 26's validation: the 2D dam break (WCSPH with three integrators, PCISPH, IISPH and
+//! DFSPH) and the soil
 //! collapse on 1, 2 and 4 ranks under `mpiexec`, every particle against the same run in one
 //! process (`geosph-distributed-check`;
 //! its documentation states the round-off bounds). Needs the feature `mpi` and an MPI
@@ -10,13 +11,15 @@ use geosph_mpi::launch::{APP_TIMEOUT as TIMEOUT, mpiexec, text};
 const CHECK: &str = env!("CARGO_BIN_EXE_geosph-distributed-check");
 
 /// The cases of the check, by name.
-const CASES: [&str; 7] = [
+const CASES: [&str; 9] = [
     "dam-break-2d",
     "dam-break-2d/pcisph",
     "dam-break-2d/iisph",
     "dam-break-2d/iisph-bicgstab",
     "dam-break-2d/dfsph",
     "dam-break-2d-options",
+    "dam-break-2d-runge-kutta",
+    "dam-break-2d-predictor-corrector",
     "granular-collapse",
 ];
 

@@ -189,6 +189,12 @@ impl<const D: usize> Distribution<D> {
         self.timed(|transport| transport.max_each(values));
     }
 
+    /// Each of `values` summed over the ranks in rank order, in place
+    /// ([`Transport::sum_each`]).
+    pub fn sum_each(&self, values: &mut [Real]) {
+        self.timed(|transport| transport.sum_each(values));
+    }
+
     /// Every rank's `values` (the same number on every rank), concatenated in rank order.
     pub fn gather_each(&self, values: &[Real]) -> Vec<Real> {
         self.timed(|transport| transport.gather_each(values))

@@ -58,4 +58,4 @@ pub use viscosity::{
     ViscousVisitor,
 };
 pub use wall_contact::keep_out_of_walls;
-pub use wall_motion::{MotionError, WallMotion};
+pub use wall_motion::{FlowShare, MotionError, WallMotion};

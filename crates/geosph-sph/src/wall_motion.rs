@@ -4,6 +4,9 @@ use geosph_boundary::WallParticles;
 use geosph_core::{Particles, Real};
 use geosph_neighbours::SearchError;
 
+use crate::distributed::Distribution;
+use crate::lists::PairLists;
+
 /// Why moving walls could not advance.
 #[derive(Debug, thiserror::Error)]
 pub enum MotionError {
@@ -25,12 +28,13 @@ pub enum MotionError {
 /// its end; the implementation rewrites the position, normal, velocity and acceleration of
 /// the wall particles it owns and leaves the others alone.
 pub trait WallMotion<const D: usize>: Send {
-    /// Advances the walls over the step `dt` that brought the flow to `fluid` (with the
-    /// pressure of the step's end).
+    /// Advances the walls over the step `dt` that brought the flow to `flow` (with the
+    /// pressure of the step's end). In a distributed run every rank holds every wall and
+    /// advances it alike, from loads summed over the ranks ([`FlowShare::sum_over_ranks`]).
     fn advance(
         &mut self,
         dt: Real,
-        fluid: &Particles<D>,
+        flow: FlowShare<'_, D>,
         walls: &mut WallParticles<D>,
     ) -> Result<(), MotionError>;
 
@@ -52,4 +56,38 @@ pub trait WallMotion<const D: usize>: Send {
     /// Continues from `state`, saved by [`WallMotion::save_state`] of a motion built from the
     /// same scene, and puts the walls it moves where that state has them.
     fn restore_state(&mut self, state: &[u8], walls: &mut WallParticles<D>) -> Result<(), String>;
+}
+
+/// The flow at the end of a step as [`WallMotion::advance`] reads it: this rank's particles,
+/// of which it owns the first `owned` (every particle on one process; in a distributed run
+/// the rest are its halo, copies of other ranks' particles, which a load must not count a
+/// second time), and the ranks to sum a load's partial sums over.
+#[derive(Clone, Copy)]
+pub struct FlowShare<'a, const D: usize> {
+    /// This rank's particles, its own first.
+    pub particles: &'a Particles<D>,
+    /// How many of `particles` this rank owns.
+    pub owned: usize,
+    /// The ranks of a distributed run (`None` on one process).
+    pub distribution: Option<&'a Distribution<D>>,
+}
+
+impl<'a, const D: usize> FlowShare<'a, D> {
+    /// The flow of `particles`, shared out as `lists` share them.
+    pub fn of(particles: &'a Particles<D>, lists: &'a PairLists<D>) -> Self {
+        Self {
+            particles,
+            owned: lists.owned(particles.len()),
+            distribution: lists.distribution(),
+        }
+    }
+
+    /// Sums over this rank's owned particles, in place, made sums over every particle: added
+    /// over the ranks in rank order ([`Distribution::sum_each`]; nothing on one process), so
+    /// every rank gets the same.
+    pub fn sum_over_ranks(&self, values: &mut [Real]) {
+        if let Some(distribution) = self.distribution {
+            distribution.sum_each(values);
+        }
+    }
 }

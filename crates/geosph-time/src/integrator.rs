@@ -244,6 +244,7 @@ impl<const D: usize> Integrator<D> {
                 position_rate(x_rate, &particles.velocity, &rates.position_correction);
                 start.advance(particles, x_rate, rates, 0.5 * dt);
                 system.finish_stage(particles);
+                system.begin_stage(particles);
                 system.rates(particles, time + 0.5 * dt, rates);
                 position_rate(x_rate, &particles.velocity, &rates.position_correction);
                 start.advance(particles, x_rate, rates, dt);
@@ -260,6 +261,9 @@ impl<const D: usize> Integrator<D> {
                     (1.0, 0.0, 1.0),
                 ];
                 for (k, &(offset, next, weight)) in stages.iter().enumerate() {
+                    if k > 0 {
+                        system.begin_stage(particles);
+                    }
                     system.rates(particles, time + offset * dt, rates);
                     position_rate(x_rate, &particles.velocity, &rates.position_correction);
                     let keep = if k == 0 { 0.0 } else { 1.0 };

@@ -67,9 +67,10 @@ impl<const D: usize> Rates<D> {
 ///
 /// The integrator owns the scheme; the system owns the physics. Per step the integrator calls
 /// [`ExplicitSystem::prepare`] once (neighbour search on the positions at the start of the
-/// step, or after the drift for leap-frog), then [`ExplicitSystem::rates`] once per stage, and
-/// [`ExplicitSystem::finish_stage`] after each state update (e.g. a plastic return map or a
-/// density clamp).
+/// step, or after the drift for leap-frog), then [`ExplicitSystem::rates`] once per stage
+/// (before each stage but the first of a multi-stage scheme [`ExplicitSystem::begin_stage`]),
+/// and [`ExplicitSystem::finish_stage`] after each state update (e.g. a plastic return map or
+/// a density clamp).
 pub trait ExplicitSystem<const D: usize> {
     /// The error a system reports (e.g. a particle leaving the domain).
     type Error;
@@ -82,4 +83,10 @@ pub trait ExplicitSystem<const D: usize> {
 
     /// Applies constraints after the state was updated (return mapping, clamping); default none.
     fn finish_stage(&mut self, _particles: &mut Particles<D>) {}
+
+    /// Before the rates of a stage that no [`ExplicitSystem::prepare`] precedes (the later
+    /// stages of the predictor–corrector and Runge–Kutta schemes, which keep the lists of the
+    /// step's start): e.g. a distributed system refreshes its halo from the other ranks, whose
+    /// particles the last stage moved. Default none.
+    fn begin_stage(&mut self, _particles: &mut Particles<D>) {}
 }

@@ -40,9 +40,9 @@ use geosph_sph::lattice::{
     lattice_gradient_factor, lattice_gradient_squares, lattice_jacobi_bound, lattice_kernel_sum,
 };
 use geosph_sph::{
-    Distribution, ShiftingInput, Solver, SolverError, SolverState, StateArrays, StateError,
-    StepReport, Transport, WallMotion, compression, event_step, keep_out_of_walls, max_speed,
-    restore_wall_motion,
+    Distribution, FlowShare, ShiftingInput, Solver, SolverError, SolverState, StateArrays,
+    StateError, StepReport, Transport, WallMotion, compression, event_step, keep_out_of_walls,
+    max_speed, restore_wall_motion,
 };
 use rayon::prelude::*;
 
@@ -377,7 +377,11 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         // Bodies move with the pressure of this step, before the lists and wall gradients
         // of the next are built.
         if let Some(motion) = &mut self.motion {
-            motion.advance(dt, fluid, &mut self.system.walls)?;
+            motion.advance(
+                dt,
+                FlowShare::of(fluid, &self.system.lists),
+                &mut self.system.walls,
+            )?;
         }
         self.steps += 1;
         // The Z-order sort when due; in a distributed run a set-up once a particle has moved
@@ -415,7 +419,6 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
     }
 
     fn set_wall_motion(&mut self, motion: Box<dyn WallMotion<D>>) -> Result<(), SolverError> {
-        self.system.lists.single_process("a rigid body")?;
         self.system.lists.walls_move();
         self.motion = Some(motion);
         Ok(())
@@ -432,7 +435,7 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         fluid: &mut Particles<D>,
         transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
-        self.system.lists.can_distribute(self.motion.is_some())?;
+        self.system.lists.can_distribute()?;
         self.method.distribute(fluid)?;
         let margin = self.system.kernel.support_radius();
         self.system

@@ -204,7 +204,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         _soil: &mut Particles<D>,
         transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
-        self.system.lists.can_distribute(false)?;
+        self.system.lists.can_distribute()?;
         if self.geostatic.is_some() {
             return Err(SolverError::NotDistributed(
                 "the soil's geostatic stage runs on every rank before the run is shared: run `initial_stage` first".into(),

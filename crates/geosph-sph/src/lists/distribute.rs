@@ -54,7 +54,7 @@ impl<const D: usize> PairLists<D> {
     }
 
     /// An error naming `what` in a distributed run, which does not support it yet (particles
-    /// leaving the domain, restarts, moving walls); nothing on one process.
+    /// leaving the domain, a second distribution); nothing on one process.
     pub fn single_process(&self, what: &str) -> Result<(), SolverError> {
         match self.distribution {
             Some(_) => Err(SolverError::NotDistributed(format!(
@@ -64,17 +64,10 @@ impl<const D: usize> PairLists<D> {
         }
     }
 
-    /// The checks every solver's `distribute` makes first: an error if these lists are
-    /// already distributed or, with `moving_walls` (rigid bodies), since those do not run on
-    /// several ranks yet.
-    pub fn can_distribute(&self, moving_walls: bool) -> Result<(), SolverError> {
-        self.single_process("distributing a run again")?;
-        match moving_walls {
-            true => Err(SolverError::NotDistributed(
-                "rigid bodies do not run on several ranks yet".into(),
-            )),
-            false => Ok(()),
-        }
+    /// The check every solver's `distribute` makes first: an error if these lists are
+    /// already distributed.
+    pub fn can_distribute(&self) -> Result<(), SolverError> {
+        self.single_process("distributing a run again")
     }
 
     /// Keeps the cut of a distributed run's checkpoint (`None`: one process's) for
