@@ -116,7 +116,7 @@ impl<const D: usize> Body<D> {
 /// Each body is a set of dummy wall particles (the boundary treatment of the fixed walls,
 /// extended to moving walls as Adami, Hu & Adams 2012, §2.3, allow: the wall's velocity
 /// enters the no-slip mirror and its acceleration the pressure extrapolation). Once per
-/// step the flow's pressure is integrated over the body's surface ([`pressure_load`],
+/// step the flow's pressure is integrated over the body's surface ([`geosph_sph::surface_load::pressure_load`],
 /// hydrostatic extrapolation with g − a_body), rapier advances the body under that load,
 /// gravity and its contacts (Coulomb friction), and the wall particles follow rigidly:
 ///
