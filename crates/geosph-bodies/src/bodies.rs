@@ -116,8 +116,10 @@ impl<const D: usize> Body<D> {
 /// Each body is a set of dummy wall particles (the boundary treatment of the fixed walls,
 /// extended to moving walls as Adami, Hu & Adams 2012, §2.3, allow: the wall's velocity
 /// enters the no-slip mirror and its acceleration the pressure extrapolation). Once per
-/// step the flow's pressure is integrated over the body's surface ([`geosph_sph::surface_load::pressure_load`],
-/// hydrostatic extrapolation with g − a_body), rapier advances the body under that load,
+/// step the flow's pressure is integrated over the body's surface
+/// ([`geosph_sph::surface_load::pressure_load`], hydrostatic extrapolation with g − a_body;
+/// in a distributed run its sums over each rank's particles added over the ranks), rapier
+/// advances the body under that load,
 /// gravity and its contacts (Coulomb friction), and the wall particles follow rigidly:
 ///
 /// x_w = x_c + R r_w,  n_w = R n_w⁰,  u_w = v_c + ω × R r_w,
