@@ -393,6 +393,50 @@ fn particle_outside_the_domain_is_an_error_naming_it() {
     assert_eq!(grid.particle_count(), 50);
 }
 
+/// With `bin_outside_in_edge_cells`, particles up to three cells outside the closed faces
+/// (a splash leaving the domain together) are built into the edge cells, and every pair,
+/// among them and with the particles inside, is found as the brute force finds it: in 2D
+/// with one periodic axis and in 3D with none. Without it the same build fails.
+#[test]
+fn particles_outside_binned_in_edge_cells_keep_every_pair() {
+    fn check<const D: usize>(domain: Domain<D>, radius: Real, seed: u64) {
+        let (lo, hi) = (domain.min, domain.max);
+        let mut wide_min = lo;
+        let mut wide_max = hi;
+        for k in 0..D {
+            if !domain.periodic[k] {
+                wide_min[k] -= 3.0 * radius;
+                wide_max[k] += 3.0 * radius;
+            }
+        }
+        let position = random_points(wide_min, wide_max, 2_000, seed);
+        let outside = position.iter().filter(|x| !domain.contains(x)).count();
+        assert!(outside > 100, "{outside} particles outside");
+        let mut grid = CellGrid::new(domain.clone(), radius).unwrap();
+        assert!(matches!(
+            grid.build(&position),
+            Err(SearchError::OutsideDomain { .. })
+        ));
+        grid.bin_outside_in_edge_cells();
+        grid.build(&position).unwrap();
+        let mut list = NeighbourList::new();
+        grid.neighbour_list(&position, &position, &mut list);
+        assert_eq!(
+            sorted(list),
+            brute_force(&domain, radius, &position, &position)
+        );
+    }
+    let plane = Domain::with_periodic(
+        Vector::<2>::zeros(),
+        Vector::<2>::new(1.0, 0.6),
+        [true, false],
+    )
+    .unwrap();
+    check(plane, 0.07, 3);
+    let space = Domain::new(Vector::<3>::zeros(), Vector::<3>::new(0.5, 0.4, 0.3)).unwrap();
+    check(space, 0.06, 4);
+}
+
 #[test]
 fn invalid_grids_are_refused() {
     let domain = Domain::with_periodic(

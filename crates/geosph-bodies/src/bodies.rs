@@ -271,7 +271,10 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
             .as_deref()
             .ok_or_else(|| MotionError::Failed("rigid bodies need the fluid's pressure".into()))?;
         // A particle outside the domain fails here, before any body moved: the step is
-        // retaken without it.
+        // retaken without it. A distributed run removes it after the step instead.
+        if flow.distribution.is_some() {
+            self.grid.bin_outside_in_edge_cells();
+        }
         let position = &fluid.position[..owned];
         self.grid.build(position)?;
         let Coupling {

@@ -172,10 +172,9 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
     ) -> Result<(), SolverError> {
         self.system
             .lists
-            .single_process("a particle leaving the domain (enlarge the scene's `domain`)")?;
-        fluid.retain(keep);
-        self.integrator.retain(keep);
-        self.system.lists.invalidate();
+            .remove_particles(fluid, &mut self.integrator, keep)?;
+        // The cached rates hold the removed particles' forces.
+        self.integrator.invalidate();
         Ok(())
     }
 

@@ -50,17 +50,29 @@ pub(crate) struct CellMap<const D: usize> {
     pub(crate) inv_size: Vector<D>,
     /// Linear-index stride of each axis (x fastest).
     pub(crate) strides: [usize; D],
+    /// Whether a finite position outside the domain on a closed axis goes to the edge cell
+    /// along it ([`CellGrid::bin_outside_in_edge_cells`]) instead of failing the build.
+    pub(crate) edge_cells: bool,
 }
 
 impl<const D: usize> CellMap<D> {
     /// Integer cell coordinates of a particle of the built set, or `None` if it lies outside
-    /// `[min, max)` on some axis (or a coordinate is NaN).
+    /// `[min, max)` on some axis (or a coordinate is NaN); with `edge_cells`, a finite
+    /// coordinate outside a closed axis is in the edge cell along it.
     #[inline]
     pub(crate) fn cell_coords(&self, x: &Vector<D>) -> Option<[usize; D]> {
         let mut c = [0usize; D];
         for k in 0..D {
             if !(x[k] >= self.min[k] && x[k] < self.max[k]) {
-                return None;
+                if !(self.edge_cells && !self.periodic[k] && x[k].is_finite()) {
+                    return None;
+                }
+                c[k] = if x[k] < self.min[k] {
+                    0
+                } else {
+                    self.counts[k] - 1
+                };
+                continue;
             }
             // u ≥ 0, so truncation is floor; clamp in case rounding reaches the upper face.
             let u = (x[k] - self.min[k]) * self.inv_size[k];
@@ -166,6 +178,7 @@ impl<const D: usize> CellGrid<D> {
             counts,
             inv_size,
             strides,
+            edge_cells: false,
         };
         Ok(Self {
             domain,
@@ -177,6 +190,18 @@ impl<const D: usize> CellGrid<D> {
             cursor: Vec::new(),
             scratch: QueryScratch::default(),
         })
+    }
+
+    /// From now on a particle outside the domain on a closed axis (with finite coordinates)
+    /// is binned in the edge cell along that axis instead of failing [`CellGrid::build`], and
+    /// a query from outside scans the edge cells. Every pair within the radius is still
+    /// found: along an axis the cell coordinate clamped to [0, n − 1] moves two coordinates
+    /// no farther apart, so two points less than a cell width apart stay in the same or
+    /// adjacent cells. For a distributed run, which removes a particle that left the domain
+    /// after the step in which it left (one process finds it at the build and takes the step
+    /// again without it).
+    pub fn bin_outside_in_edge_cells(&mut self) {
+        self.map.edge_cells = true;
     }
 
     /// Sorts the particles at `position` into the cells (counting sort), replacing any set

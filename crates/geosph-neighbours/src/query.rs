@@ -93,8 +93,13 @@ impl<const D: usize> CellGrid<D> {
                     cell_count = 3;
                 }
             } else {
-                // Clamp before converting: far-away queries only need to miss the grid.
-                let c = u.floor().clamp(-2.0, n as Real + 1.0) as isize;
+                // Clamp before converting: far-away queries only need to miss the grid,
+                // unless particles outside it are in its edge cells.
+                let (first, last) = match map.edge_cells {
+                    true => (0.0, (n - 1) as Real),
+                    false => (-2.0, n as Real + 1.0),
+                };
+                let c = u.floor().clamp(first, last) as isize;
                 let lo = (c - 1).max(0);
                 let hi = (c + 1).min(n as isize - 1);
                 if lo > hi {

@@ -13,14 +13,22 @@
 //!   failed step moved out are removed, and the runner takes the step again. Such a particle
 //!   is removed at the start of the step in which it would leave.
 //!
+//! On several ranks ([`Escapes::after_step_on_rank`]) the lists bin a particle outside the
+//! domain in their edge cells, so no search fails on it: each rank finds its own after the
+//! step in which they left, the ranks sum what they found in one collective a step, and all
+//! remove together (the halos hold copies) and set up anew. One process removes a particle
+//! after that step too when the lists have a Verlet skin and were not rebuilt in it (WCSPH,
+//! soil: the runs then agree within round-off), at the start of it when they are exact
+//! (the incompressible solvers).
+//!
 //! A non-finite position is never an escape: the health check diagnoses it as a blow-up. Once
 //! more than `health.max_escaped_fraction` of the particles would have left, the run stops
 //! with the outside-domain diagnosis instead, so that a blow-up is not hidden by removing
 //! what it throws out. A step in which nothing left costs one pass over the positions.
 
-use geosph_core::{Domain, Particles, Permutation, Real};
+use geosph_core::{Domain, Particles, Permutation, Real, Vector};
 use geosph_neighbours::SearchError;
-use geosph_sph::{Solver, SolverError};
+use geosph_sph::{Solver, SolverError, Transport};
 
 use crate::checkpoint::Progress;
 use crate::health::{self, Diagnosis, Limits, Scan};
@@ -135,12 +143,12 @@ impl Escapes {
         limits: &Limits<D>,
         progress: &Progress,
     ) -> Option<Diagnosis> {
+        if !self.exceeds(count, fluid.len() as u64, progress) {
+            return None;
+        }
         let total = fluid.len() as u64 + progress.escaped;
         let escaped = progress.escaped + count as u64;
         let fraction = escaped as Real / total as Real;
-        if fraction <= self.max_fraction {
-            return None;
-        }
         let (i, distance) = Scan::first_outside(fluid, limits)?;
         let mut diagnosis =
             health::outside_domain(i, fluid.id[i], distance, &fluid.position[i], &limits.domain);
@@ -163,21 +171,106 @@ impl Escapes {
         progress: &mut Progress,
         time: Real,
     ) -> Result<(), SolverError> {
-        let (mut kinetic_energy, mut gravity_moment, mut mass) = (0.0, 0.0, 0.0);
-        for (i, _) in self.keep.iter().enumerate().filter(|(_, keep)| !**keep) {
-            let m = fluid.mass[i];
-            kinetic_energy += 0.5 * m * fluid.velocity[i].norm_squared();
-            gravity_moment += m * limits.gravity.dot(&fluid.position[i]);
-            mass += m;
-        }
-        if let Some(budget) = &mut limits.energy {
-            budget.carry_away(kinetic_energy, gravity_moment);
-        }
-        progress.escaped += count as u64;
-        progress.escaped_mass += mass;
-        progress.first_escape.get_or_insert(time);
+        let figures = self.removed(fluid, fluid.len(), limits);
+        account(count, figures, limits, progress, time);
         solver.remove_particles(fluid, &self.keep)
     }
+
+    /// The kinetic energy, the moment m g·x and the mass of the particles among the first
+    /// `owned` of `fluid` that the mask drops.
+    fn removed<const D: usize>(
+        &self,
+        fluid: &Particles<D>,
+        owned: usize,
+        limits: &Limits<D>,
+    ) -> [Real; 3] {
+        let mut figures = [0.0; 3];
+        for (i, _) in self.keep[..owned].iter().enumerate().filter(|(_, k)| !**k) {
+            let m = fluid.mass[i];
+            figures[0] += 0.5 * m * fluid.velocity[i].norm_squared();
+            figures[1] += m * limits.gravity.dot(&fluid.position[i]);
+            figures[2] += m;
+        }
+        figures
+    }
+
+    /// [`Escapes::after_step`] on one rank of a distributed run, whose first `owned`
+    /// particles of `fluid` are its own (collective: every rank calls it after every step).
+    /// Each rank marks its own particles outside the domain; their count, energies and mass,
+    /// with the particles' count and whether a position is not finite, are summed over the
+    /// ranks in one collective, so that every rank removes together, counts alike and keeps
+    /// the same energy budget. When too many have left, the diagnosis needs every particle:
+    /// `whole` gathers them (collective) and the diagnosis is that of one process.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn after_step_on_rank<const D: usize>(
+        &mut self,
+        fluid: &mut Particles<D>,
+        owned: usize,
+        solver: &mut dyn Solver<D>,
+        limits: &mut Limits<D>,
+        progress: &mut Progress,
+        time: Real,
+        transport: &dyn Transport,
+        whole: &mut dyn FnMut(&Particles<D>) -> Particles<D>,
+    ) -> Result<Removal, SolverError> {
+        let domain = &limits.domain;
+        let outside = |x: &Vector<D>| domain.has_left(x);
+        let finite = fluid.position[..owned]
+            .iter()
+            .all(|x| x.iter().all(|c| c.is_finite()));
+        self.keep.clear();
+        self.keep.extend(fluid.position.iter().map(|x| !outside(x)));
+        let count = self.keep[..owned].iter().filter(|k| !**k).count();
+        let [kinetic, moment, mass] = self.removed(fluid, owned, limits);
+        let mut sums = [
+            count as Real,
+            Real::from(u8::from(!finite)),
+            kinetic,
+            moment,
+            mass,
+            owned as Real,
+        ];
+        transport.sum_each(&mut sums);
+        let count = sums[0] as usize;
+        if sums[1] > 0.0 || count == 0 {
+            return Ok(Removal::Nothing);
+        }
+        if self.exceeds(count, sums[5] as u64, progress) {
+            let everyone = whole(fluid);
+            let diagnosis = self
+                .too_many(count, &everyone, limits, progress)
+                .expect("too many particles left, and some is outside");
+            *fluid = everyone;
+            return Ok(Removal::TooMany(diagnosis));
+        }
+        account(count, [sums[2], sums[3], sums[4]], limits, progress, time);
+        solver.remove_particles(fluid, &self.keep)?;
+        Ok(Removal::Removed)
+    }
+
+    /// Whether `count` more of the run's `particles` leaving would exceed the allowed
+    /// fraction.
+    fn exceeds(&self, count: usize, particles: u64, progress: &Progress) -> bool {
+        let total = particles + progress.escaped;
+        (progress.escaped + count as u64) as Real / total as Real > self.max_fraction
+    }
+}
+
+/// Counts `count` particles that left at `time`, with their kinetic energy, moment m g·x and
+/// mass (`figures`), in `progress` and takes their energy out of the budget of `limits`.
+fn account<const D: usize>(
+    count: usize,
+    [kinetic_energy, gravity_moment, mass]: [Real; 3],
+    limits: &mut Limits<D>,
+    progress: &mut Progress,
+    time: Real,
+) {
+    if let Some(budget) = &mut limits.energy {
+        budget.carry_away(kinetic_energy, gravity_moment);
+    }
+    progress.escaped += count as u64;
+    progress.escaped_mass += mass;
+    progress.first_escape.get_or_insert(time);
 }
 
 /// Sets `fluid` to `last_good`, the same particles before the failed step, in the order of

@@ -255,25 +255,21 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         self.state.time = time;
         self.state.steps += 1;
         let steps = self.state.steps as usize;
-        // A distributed run does not remove particles: one that left the domain ends it (the
-        // health check's blow-up, or the list update's error on every rank).
         let escape = match self.ranks {
-            Some(_) => Removal::Nothing,
-            None => self
-                .escapes
-                .after_step(
-                    &mut self.fluid,
-                    self.solver.as_mut(),
-                    &mut self.limits,
-                    &mut self.state,
-                    time,
-                )
-                .map_err(|source| RunError::Solver {
-                    time,
-                    step: steps,
-                    source,
-                })?,
-        };
+            Some(_) => self.escapes_on_ranks(time, last_good_owned),
+            None => self.escapes.after_step(
+                &mut self.fluid,
+                self.solver.as_mut(),
+                &mut self.limits,
+                &mut self.state,
+                time,
+            ),
+        }
+        .map_err(|source| RunError::Solver {
+            time,
+            step: steps,
+            source,
+        })?;
         let sample_due = time >= self.next_sample - self.tolerance;
         let output_due = time >= self.next_output - self.tolerance;
         let diagnosis = match escape {
@@ -317,9 +313,10 @@ impl<'a, const D: usize> RunLoop<'a, D> {
                 Err(source) => source,
             };
             let step = self.state.steps as usize + 1;
-            // On several ranks only the rank that found a particle outside the domain knows
-            // which: the run ends with the error that names it there ("failed on another
-            // rank" elsewhere), not with a blow-up report, which every rank must reach alike.
+            // On several ranks the lists bin particles outside the domain in their edge cells
+            // (they are removed after the step); a failed step ends the run with the error
+            // that names it on the rank that found it ("failed on another rank" elsewhere),
+            // not with a blow-up report, which every rank must reach alike.
             if self.ranks.is_some() {
                 return Err(RunError::Solver { time, step, source });
             }

@@ -169,6 +169,35 @@ impl<const D: usize> Distribution<D> {
         self.set_up_keeping_cut = self.partition.is_some();
     }
 
+    /// Removes the particles this rank owns without `keep[i]` (those that left the domain;
+    /// `keep` covers the owned particles, then the halo) with their entries of `carried`,
+    /// keeping the others' order, and drops the halo: the other ranks' halos hold copies of
+    /// the removed particles, so every rank calls this when any rank removes one, and the
+    /// next set-up, due at once ([`Distribution::set_up_pending`]), keeps the cut.
+    ///
+    /// # Panics
+    /// Before the first set-up, when every rank still holds every particle.
+    pub fn remove(
+        &mut self,
+        particles: &mut Particles<D>,
+        carried: &mut dyn PerParticle,
+        keep: &[bool],
+    ) {
+        assert!(
+            !self.holds_all,
+            "particles are removed after the first set-up"
+        );
+        let owned = self.owned;
+        particles.resize(owned);
+        carried.resize(owned);
+        let keep = &keep[..owned];
+        particles.retain(keep);
+        carried.retain(keep);
+        geosph_core::retain(&mut self.setup_position, keep);
+        self.owned = particles.len();
+        self.set_up_next_step();
+    }
+
     /// What the exchanges did so far.
     pub fn counts(&self) -> ExchangeCounts {
         let link = self.link();

@@ -472,11 +472,10 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         fluid: &mut Particles<D>,
         keep: &[bool],
     ) -> Result<(), SolverError> {
-        self.system
-            .lists
-            .single_process("a particle leaving the domain (enlarge the scene's `domain`)")?;
-        fluid.retain(keep);
-        with_carried(&mut self.method, |carried| carried.retain(keep));
+        let (lists, method) = (&mut self.system.lists, &mut self.method);
+        with_carried(method, |carried| {
+            lists.remove_particles(fluid, carried, keep)
+        })?;
         self.system.update(fluid)?;
         Ok(())
     }

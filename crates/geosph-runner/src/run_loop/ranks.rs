@@ -148,6 +148,42 @@ impl<const D: usize> super::RunLoop<'_, D> {
             .map(|distribution| distribution.owned())
     }
 
+    /// The particles that left the domain in the step that ended at `time`, removed from
+    /// every rank together ([`Escapes::after_step_on_rank`](crate::escape::Escapes), one
+    /// collective a step; nothing before the first step has shared the particles out). When
+    /// too many have left, the failed and last good states of every particle (the last good
+    /// one's owned particles were the first `last_good_owned`) become the loop's, for the
+    /// report, as after a failed health check.
+    pub(super) fn escapes_on_ranks(
+        &mut self,
+        time: Real,
+        last_good_owned: Option<usize>,
+    ) -> Result<crate::escape::Removal, SolverError> {
+        let owned = self.owned_after_split();
+        let (Some(view), Some(owned)) = (&mut self.ranks, owned) else {
+            return Ok(crate::escape::Removal::Nothing);
+        };
+        let transport = Arc::clone(&view.transport);
+        let removal = self.escapes.after_step_on_rank(
+            &mut self.fluid,
+            owned,
+            self.solver.as_mut(),
+            &mut self.limits,
+            &mut self.state,
+            time,
+            &*transport,
+            &mut |local| {
+                view.gather(local, owned);
+                view.whole.clone()
+            },
+        )?;
+        if let (crate::escape::Removal::TooMany(_), Some(owned)) = (&removal, last_good_owned) {
+            view.gather(&self.last_good, owned);
+            self.last_good.clone_from(&view.whole);
+        }
+        Ok(removal)
+    }
+
     /// The health check after a step (`health::check`). In a distributed run each rank scans
     /// its own particles and the scans are combined over the ranks (one collective a step),
     /// so the energy budget, a sum over every particle, is checked at every step as in one

@@ -251,12 +251,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for SoilSolver<D, K> {
         soil: &mut Particles<D>,
         keep: &[bool],
     ) -> Result<(), SolverError> {
-        self.system
-            .lists
-            .single_process("a particle leaving the domain (enlarge the scene's `domain`)")?;
-        soil.retain(keep);
-        self.system.retain(keep);
-        Ok(())
+        self.system.remove_particles(soil, keep)
     }
 
     /// The step count, the last accelerations (they bound the next Δt) and the positions of the

@@ -221,13 +221,17 @@ impl<const D: usize, K: Kernel<D>> SoilSystem<D, K> {
         Ok(removed)
     }
 
-    /// Drops the accelerations of the soil particles `k` without `keep[k]` (particles that left
-    /// the domain, removed from the particles as well) and forgets the neighbour lists.
-    pub fn retain(&mut self, keep: &[bool]) {
-        if self.acceleration.len() == keep.len() {
-            geosph_core::retain(&mut self.acceleration, keep);
-        }
-        self.lists.invalidate();
+    /// Removes the particles without `keep[i]` (those that left the domain) from `soil` and
+    /// their last accelerations ([`PairLists::remove_particles`]; in a distributed run
+    /// collective, a set-up follows).
+    pub fn remove_particles(
+        &mut self,
+        soil: &mut Particles<D>,
+        keep: &[bool],
+    ) -> Result<(), SolverError> {
+        self.acceleration.resize(soil.len(), Vector::zeros());
+        self.lists
+            .remove_particles(soil, &mut self.acceleration, keep)
     }
 
     /// Restores what the next step depends on besides the particles (a restart): the

@@ -42,6 +42,9 @@ impl<const D: usize> PairLists<D> {
             "the lists are already distributed"
         );
         let radius = self.support_radius + margin;
+        // A particle that leaves the domain is removed after the step it left in, which
+        // until then must keep its pairs.
+        self.grid.bin_outside_in_edge_cells();
         self.distribution = Some(Distribution::new(
             transport,
             self.domain.clone(),
@@ -53,8 +56,8 @@ impl<const D: usize> PairLists<D> {
         Ok(())
     }
 
-    /// An error naming `what` in a distributed run, which does not support it yet (particles
-    /// leaving the domain, a second distribution); nothing on one process.
+    /// An error naming `what` in a distributed run, which does not support it yet (a second
+    /// distribution, a restart into a distributed solver); nothing on one process.
     pub fn single_process(&self, what: &str) -> Result<(), SolverError> {
         match self.distribution {
             Some(_) => Err(SolverError::NotDistributed(format!(
@@ -68,6 +71,29 @@ impl<const D: usize> PairLists<D> {
     /// already distributed.
     pub fn can_distribute(&self) -> Result<(), SolverError> {
         self.single_process("distributing a run again")
+    }
+
+    /// Removes the particles without `keep[i]` (those that left the domain) from `particles`
+    /// and `carried`, keeping the others' order, and forgets the lists. In a distributed
+    /// run `keep` covers the owned particles and the halo; every rank calls this when any
+    /// rank removes a particle (the halos hold copies of it), and all set up anew at once,
+    /// keeping the cut ([`Distribution::remove`]; collective). The lists are rebuilt at the
+    /// next update.
+    pub fn remove_particles(
+        &mut self,
+        particles: &mut Particles<D>,
+        carried: &mut dyn PerParticle,
+        keep: &[bool],
+    ) -> Result<(), SolverError> {
+        self.valid = false;
+        let Some(distribution) = &mut self.distribution else {
+            particles.retain(keep);
+            carried.retain(keep);
+            return Ok(());
+        };
+        distribution.remove(particles, carried, keep);
+        self.reorder_if_due(0, particles, carried)?;
+        Ok(())
     }
 
     /// Keeps the cut of a distributed run's checkpoint (`None`: one process's) for
