@@ -85,7 +85,7 @@ fn assert_the_lone_particle_escapes(label: &str, scene: &Scene) {
     assert_eq!(summary.escaped, 1, "{label}: {summary}");
     assert_eq!(summary.fluid_particles, 100, "{label}: {summary}");
     let first = summary.first_escape.expect("a first escape time");
-    // Removed in the step in which it leaves (at that step's start when it left inside it).
+    // Removed after the step in which it leaves.
     assert!(
         (first - ESCAPE_TIME).abs() < 0.01,
         "{label}: first escape at {first} s"
@@ -128,9 +128,10 @@ fn a_soil_particle_that_leaves_the_domain_leaves_the_run() {
 }
 
 /// Without a Verlet skin, leap-frog WCSPH searches neighbours after the drift of every step,
-/// so it finds the particle outside inside the step: the step is taken again without it.
+/// so its search meets the particle outside inside the step: the lists bin it in their edge
+/// cells, and it is removed after the step as with a skin.
 #[test]
-fn a_wcsph_particle_found_outside_inside_a_step_leaves_the_run() {
+fn a_wcsph_particle_met_outside_inside_a_step_leaves_the_run() {
     let mut scene = lone_particle_scene("wcsph");
     let SolverSpec::Wcsph(config) = &mut scene.solver else {
         panic!("a WCSPH scene");

@@ -425,13 +425,14 @@ fn rigid_bodies_move_on_several_ranks_as_on_one_process() {
 
 /// The lone particle of `tests/tests/escape.rs` thrown up out of the domain while the water
 /// stays in its tank (101 particles): on several ranks the rank that owns it finds it outside
-/// after the step in which it left (its lists bin it in the edge cells until then), every
-/// rank removes together, and the run counts it as one process does. With WCSPH (lists with
-/// a skin), one process removes it after the same step, and the runs agree within 10⁻⁹ of
-/// every column's scale (measured: 2.4 × 10⁻¹³); the soil solver's runs as closely. DFSPH's
-/// exact lists find it at the start of the step in which it leaves on one process, so its
-/// runs agree only in what they report of the escape: one particle, within a step of the
-/// moment it crosses the top at t = 0.099 s.
+/// after the step in which it left (the lists bin it in their edge cells until then, as one
+/// process's do), every rank removes together, and the run counts it as one process does:
+/// with WCSPH, DFSPH and the soil solver on 2 and 4 ranks every column within 10⁻⁹ of its
+/// scale of one process's (measured: 2.4 × 10⁻¹³ with WCSPH), one particle leaving within
+/// a step of the moment it crosses the top at t = 0.099 s. DFSPH's runs are compared to
+/// 0.12 s, past the escape: its round-off grows tenfold every 0.03 s or so here, as without
+/// an escape (docs/parallel.md; 3 × 10⁻¹¹ at 0.12 s, 2 × 10⁻⁹ at 0.15 s, 10⁻⁵ at 0.27 s,
+/// with the same steps, iterations and escape).
 #[test]
 fn a_particle_leaving_the_domain_leaves_a_distributed_run() {
     let out = folder("escape-mpi");
@@ -488,14 +489,19 @@ fn a_particle_leaving_the_domain_leaves_a_distributed_run() {
         );
         table(&folder.join("diagnostics.csv"))
     };
-    for solver in ["Wcsph(())", "Soil(())"] {
+    for solver in ["Wcsph(())", "Dfsph(())", "Soil(())"] {
         let (header, alone) = run(solver, 1);
         for ranks in [2, 4] {
             let (_, got) = run(solver, ranks);
             assert_eq!(alone.len(), got.len(), "{solver}, {ranks} ranks: rows");
+            let until = if solver == "Dfsph(())" { 0.12 } else { 0.3 };
             for (c, name) in header.iter().enumerate() {
                 let scale = alone.iter().map(|row| row[c].abs()).fold(0.0, f64::max);
-                for (row, (a, b)) in alone.iter().zip(&got).enumerate() {
+                let compared = alone
+                    .iter()
+                    .zip(&got)
+                    .take_while(|(a, _)| a[0] <= until + 1e-9);
+                for (row, (a, b)) in compared.enumerate() {
                     assert!(
                         (a[c] - b[c]).abs() <= 1e-9 * scale,
                         "{solver}, {ranks} ranks, {name} row {row}: {} against {}",
@@ -506,5 +512,4 @@ fn a_particle_leaving_the_domain_leaves_a_distributed_run() {
             }
         }
     }
-    run("Dfsph(())", 2);
 }

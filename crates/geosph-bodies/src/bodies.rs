@@ -185,8 +185,11 @@ impl<const D: usize> RigidBodies<D> {
             });
         }
         let radius = coupling.kernel.support_factor() * coupling.smoothing_length;
-        let grid = CellGrid::new(coupling.domain.clone(), radius)
+        let mut grid = CellGrid::new(coupling.domain.clone(), radius)
             .expect("the run's domain holds a grid of the kernel's support");
+        // A particle that left the domain in this step still pushes on a body; the runner
+        // removes it after the step.
+        grid.bin_outside_in_edge_cells();
         Ok(Self {
             world,
             bodies: built,
@@ -270,11 +273,6 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
             .pressure
             .as_deref()
             .ok_or_else(|| MotionError::Failed("rigid bodies need the fluid's pressure".into()))?;
-        // A particle outside the domain fails here, before any body moved: the step is
-        // retaken without it. A distributed run removes it after the step instead.
-        if flow.distribution.is_some() {
-            self.grid.bin_outside_in_edge_cells();
-        }
         let position = &fluid.position[..owned];
         self.grid.build(position)?;
         let Coupling {

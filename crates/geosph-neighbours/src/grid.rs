@@ -197,9 +197,8 @@ impl<const D: usize> CellGrid<D> {
     /// a query from outside scans the edge cells. Every pair within the radius is still
     /// found: along an axis the cell coordinate clamped to [0, n − 1] moves two coordinates
     /// no farther apart, so two points less than a cell width apart stay in the same or
-    /// adjacent cells. For a distributed run, which removes a particle that left the domain
-    /// after the step in which it left (one process finds it at the build and takes the step
-    /// again without it).
+    /// adjacent cells. For the pair lists of a run that removes a particle that left the domain
+    /// after the step in which it left (`geosph-sph`'s `PairLists`).
     pub fn bin_outside_in_edge_cells(&mut self) {
         self.map.edge_cells = true;
     }

@@ -5,35 +5,27 @@
 //! DualSPHysics. [`Escapes`] removes it from the particles and, through
 //! [`Solver::remove_particles`], from the solver's per-particle state, keeping the order
 //! of the others (so a run stays the same for any number of threads), and counts it in the
-//! loop's [`Progress`]. It finds such particles
+//! loop's [`Progress`]. It finds them after every step, before the health check
+//! ([`Escapes::after_step`]): until then the pair lists bin a particle outside the domain in
+//! the edge cells of their grid, which keeps its pairs
+//! (`CellGrid::bin_outside_in_edge_cells`), so it takes part in the step in which it leaves.
 //!
-//! - after every step, before the health check ([`Escapes::after_step`]);
-//! - inside a step whose neighbour search failed on a particle outside the domain
-//!   ([`Escapes::during_step`]): the particles go back to the state before the step, those the
-//!   failed step moved out are removed, and the runner takes the step again. Such a particle
-//!   is removed at the start of the step in which it would leave.
-//!
-//! On several ranks ([`Escapes::after_step_on_rank`]) the lists bin a particle outside the
-//! domain in their edge cells, so no search fails on it: each rank finds its own after the
-//! step in which they left, the ranks sum what they found in one collective a step, and all
-//! remove together (the halos hold copies) and set up anew. One process removes a particle
-//! after that step too when the lists have a Verlet skin and were not rebuilt in it (WCSPH,
-//! soil: the runs then agree within round-off), at the start of it when they are exact
-//! (the incompressible solvers).
+//! On several ranks (`Escapes::after_step_on_rank`) each rank finds its own, the ranks sum
+//! what they found in one collective a step, and all remove together (the halos hold copies)
+//! and set up anew: the same particles as one process removes, after the same step.
 //!
 //! A non-finite position is never an escape: the health check diagnoses it as a blow-up. Once
 //! more than `health.max_escaped_fraction` of the particles would have left, the run stops
 //! with the outside-domain diagnosis instead, so that a blow-up is not hidden by removing
 //! what it throws out. A step in which nothing left costs one pass over the positions.
 
-use geosph_core::{Domain, Particles, Permutation, Real, Vector};
-use geosph_neighbours::SearchError;
+use geosph_core::{Domain, Particles, Real, Vector};
 use geosph_sph::{Solver, SolverError, Transport};
 
 use crate::checkpoint::Progress;
 use crate::health::{self, Diagnosis, Limits, Scan};
 
-/// What [`Escapes`] did after a step or a failed step.
+/// What [`Escapes`] did after a step.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Removal {
     /// No particle left the domain (or some position is not finite: a blow-up, not an
@@ -81,37 +73,6 @@ impl Escapes {
         if let Some(diagnosis) = self.too_many(count, fluid, limits, progress) {
             return Ok(Removal::TooMany(diagnosis));
         }
-        self.remove(count, fluid, solver, limits, progress, time)?;
-        Ok(Removal::Removed)
-    }
-
-    /// After `solver` failed with `error` in the step from `time`: when the neighbour search
-    /// found particles outside the domain, puts `fluid` back to `last_good` (the state before
-    /// the step), removes from it the particles that the failed step moved out, and returns
-    /// [`Removal::Removed`]: the caller takes the step again.
-    pub fn during_step<const D: usize>(
-        &mut self,
-        error: &SolverError,
-        fluid: &mut Particles<D>,
-        last_good: &Particles<D>,
-        solver: &mut dyn Solver<D>,
-        limits: &mut Limits<D>,
-        progress: &mut Progress,
-        time: Real,
-    ) -> Result<Removal, SolverError> {
-        if !matches!(
-            error,
-            SolverError::Search(SearchError::OutsideDomain { .. })
-        ) {
-            return Ok(Removal::Nothing);
-        }
-        let Some(count) = self.mark(fluid, &limits.domain) else {
-            return Ok(Removal::Nothing);
-        };
-        if let Some(diagnosis) = self.too_many(count, fluid, limits, progress) {
-            return Ok(Removal::TooMany(diagnosis));
-        }
-        rewind(fluid, last_good);
         self.remove(count, fluid, solver, limits, progress, time)?;
         Ok(Removal::Removed)
     }
@@ -273,50 +234,10 @@ fn account<const D: usize>(
     progress.first_escape.get_or_insert(time);
 }
 
-/// Sets `fluid` to `last_good`, the same particles before the failed step, in the order of
-/// `fluid`: the solver's per-particle state follows that order, which differs from
-/// `last_good`'s when the failed step sorted the particles.
-fn rewind<const D: usize>(fluid: &mut Particles<D>, last_good: &Particles<D>) {
-    if fluid.id == last_good.id {
-        fluid.clone_from(last_good);
-        return;
-    }
-    let slots = last_good
-        .id
-        .iter()
-        .map(|&id| id as usize + 1)
-        .max()
-        .unwrap_or(0);
-    let mut slot_of = vec![u32::MAX; slots];
-    for (k, &id) in last_good.id.iter().enumerate() {
-        slot_of[id as usize] = k as u32;
-    }
-    let order = fluid.id.iter().map(|&id| slot_of[id as usize]).collect();
-    let permutation =
-        Permutation::from_order(order).expect("a step keeps its particles, only reorders them");
-    fluid.clone_from(last_good);
-    fluid.permute(&permutation);
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use geosph_core::Vector;
-
-    #[test]
-    fn rewind_restores_the_state_before_a_sort() {
-        let position = (0..5).map(|i| Vector::<2>::new(i as Real, 0.0)).collect();
-        let last_good = Particles::at_rest(position, 1.0, 1000.0);
-        let mut fluid = last_good.clone();
-        let sort = Permutation::from_order(vec![3, 0, 4, 1, 2]).unwrap();
-        fluid.permute(&sort);
-        fluid.position.iter_mut().for_each(|x| x[1] = 7.0);
-        rewind(&mut fluid, &last_good);
-        assert_eq!(fluid.id, [3, 0, 4, 1, 2]);
-        for (x, &id) in fluid.position.iter().zip(&fluid.id) {
-            assert_eq!(*x, Vector::<2>::new(id as Real, 0.0));
-        }
-    }
 
     #[test]
     fn only_finite_positions_outside_are_marked() {

@@ -304,49 +304,27 @@ impl<'a, const D: usize> RunLoop<'a, D> {
         Ok(())
     }
 
-    /// The solver's step from `time` of at most `max_dt`; a step that moved particles out of
-    /// the domain is taken again without them, one that failed otherwise ends the run.
+    /// The solver's step from `time` of at most `max_dt`. A particle that leaves the domain in
+    /// it keeps its pairs (the lists bin it in their edge cells) and is removed after it; a
+    /// step whose search met a position that is not finite ends the run with the blow-up
+    /// report, one that failed otherwise with its error. On several ranks a failed step ends
+    /// the run with the error that names it on the rank that found it ("failed on another
+    /// rank" elsewhere), not with a blow-up report, which every rank must reach alike.
     fn advance(&mut self, time: Real, max_dt: Real) -> Result<StepReport, RunError> {
-        loop {
-            let source = match self.solver.step(&mut self.fluid, time, max_dt) {
-                Ok(report) => return Ok(report),
-                Err(source) => source,
-            };
-            let step = self.state.steps as usize + 1;
-            // On several ranks the lists bin particles outside the domain in their edge cells
-            // (they are removed after the step); a failed step ends the run with the error
-            // that names it on the rank that found it ("failed on another rank" elsewhere),
-            // not with a blow-up report, which every rank must reach alike.
-            if self.ranks.is_some() {
-                return Err(RunError::Solver { time, step, source });
+        let source = match self.solver.step(&mut self.fluid, time, max_dt) {
+            Ok(report) => return Ok(report),
+            Err(source) => source,
+        };
+        let step = self.state.steps as usize + 1;
+        if self.ranks.is_some() {
+            return Err(RunError::Solver { time, step, source });
+        }
+        match health::escaped(&source, &self.fluid, &self.limits) {
+            Some(diagnosis) => Err(self.blow_up(diagnosis, step, (time, time))),
+            None => {
+                let step = self.state.steps as usize;
+                Err(RunError::Solver { time, step, source })
             }
-            let removal = self
-                .escapes
-                .during_step(
-                    &source,
-                    &mut self.fluid,
-                    &self.last_good,
-                    self.solver.as_mut(),
-                    &mut self.limits,
-                    &mut self.state,
-                    time,
-                )
-                .map_err(|source| RunError::Solver { time, step, source })?;
-            let diagnosis = match removal {
-                Removal::Removed => {
-                    self.last_good.clone_from(&self.fluid);
-                    continue;
-                }
-                Removal::TooMany(diagnosis) => diagnosis,
-                Removal::Nothing => match health::escaped(&source, &self.fluid, &self.limits) {
-                    Some(diagnosis) => diagnosis,
-                    None => {
-                        let step = self.state.steps as usize;
-                        return Err(RunError::Solver { time, step, source });
-                    }
-                },
-            };
-            return Err(self.blow_up(diagnosis, step, (time, time)));
         }
     }
 

@@ -78,7 +78,10 @@ impl<const D: usize> PairLists<D> {
     ) -> Result<Self, SearchError> {
         let skin = skin_fraction.max(0.0) * support_radius;
         let radius = support_radius + skin;
-        let grid = CellGrid::new(domain.clone(), radius)?;
+        // A particle that leaves the domain keeps its pairs until the runner removes it
+        // after the step it left in.
+        let mut grid = CellGrid::new(domain.clone(), radius)?;
+        grid.bin_outside_in_edge_cells();
         let mut wall_grid = CellGrid::new(domain.clone(), radius)?;
         wall_grid.build(wall_position)?;
         Ok(Self {

@@ -431,8 +431,10 @@ pub fn check<const D: usize>(
     None
 }
 
-/// The diagnosis of a step that failed because a particle of `fluid` left the domain
-/// (the neighbour search's [`SearchError::OutsideDomain`]); `None` for any other error.
+/// The diagnosis of a step that failed because the neighbour search met a particle of
+/// `fluid` it could not bin (its [`SearchError::OutsideDomain`]: a position that is not
+/// finite; the pair lists bin finite positions outside the domain in their edge cells);
+/// `None` for any other error.
 pub fn escaped<const D: usize>(
     error: &SolverError,
     fluid: &Particles<D>,

@@ -42,9 +42,6 @@ impl<const D: usize> PairLists<D> {
             "the lists are already distributed"
         );
         let radius = self.support_radius + margin;
-        // A particle that leaves the domain is removed after the step it left in, which
-        // until then must keep its pairs.
-        self.grid.bin_outside_in_edge_cells();
         self.distribution = Some(Distribution::new(
             transport,
             self.domain.clone(),
