@@ -352,9 +352,20 @@ impl<const D: usize> PressureMethod<D> for Dfsph {
         arrays.push("divergence_pressure", &divergence[..upto(divergence)]);
     }
 
-    fn restore_state(&mut self, arrays: &mut StateArrays) -> Result<(), StateError> {
-        self.density_pressure = arrays.take("density_pressure")?;
-        self.divergence_pressure = arrays.take("divergence_pressure")?;
+    /// A warm start is saved empty before it is first made (a checkpoint before the first
+    /// step), else with one value per particle.
+    fn restore_state(&mut self, arrays: &mut StateArrays, n: usize) -> Result<(), StateError> {
+        let mut warm_start = |name: &str| -> Result<Vec<Real>, StateError> {
+            let values = arrays.take(name)?;
+            match values.len() {
+                len if len == 0 || len == n => Ok(values),
+                len => Err(StateError(format!(
+                    "`{name}` holds {len} values, not one for each of the {n} particles (or none)"
+                ))),
+            }
+        };
+        self.density_pressure = warm_start("density_pressure")?;
+        self.divergence_pressure = warm_start("divergence_pressure")?;
         self.released = true;
         Ok(())
     }
@@ -396,5 +407,32 @@ impl PerParticle for Dfsph {
                 permutation.apply(summed);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A checkpoint's warm starts are taken back with one value per particle, or none (saved
+    /// before they were first made); another count is an error naming the array.
+    #[test]
+    fn warm_starts_of_another_particle_count_are_refused() {
+        let arrays = |density: &[Real], divergence: &[Real]| {
+            let mut arrays = StateArrays::default();
+            arrays.push("density_pressure", density);
+            arrays.push("divergence_pressure", divergence);
+            arrays
+        };
+        let restore = |mut arrays: StateArrays| {
+            PressureMethod::<2>::restore_state(&mut Dfsph::default(), &mut arrays, 3)
+        };
+        assert!(restore(arrays(&[1.0, 2.0, 3.0], &[0.0; 3])).is_ok());
+        assert!(restore(arrays(&[], &[])).is_ok());
+        let error = restore(arrays(&[1.0, 2.0, 3.0], &[0.0; 2])).unwrap_err();
+        assert_eq!(
+            error.0,
+            "`divergence_pressure` holds 2 values, not one for each of the 3 particles (or none)"
+        );
     }
 }

@@ -171,8 +171,9 @@ pub trait PressureMethod<const D: usize>: Send {
     /// (all of them on one process) to a checkpoint's `arrays`.
     fn save_state(&self, _arrays: &mut StateArrays, _owned: usize) {}
 
-    /// Takes the method's warm-start arrays back from `arrays` (a restart).
-    fn restore_state(&mut self, _arrays: &mut StateArrays) -> Result<(), StateError> {
+    /// Takes the method's warm-start arrays of the `n` particles restored back from `arrays`
+    /// (a restart); an error naming the array that holds another number.
+    fn restore_state(&mut self, _arrays: &mut StateArrays, _n: usize) -> Result<(), StateError> {
         Ok(())
     }
 }
@@ -504,7 +505,8 @@ impl<const D: usize, K: Kernel<D>, M: PressureMethod<D>> Solver<D> for Incompres
         self.system.lists.single_process("a restart")?;
         let steps = state.steps_of(self.name())?;
         let max_acceleration = state.arrays.take_value("max_acceleration")?;
-        self.method.restore_state(&mut state.per_particle)?;
+        self.method
+            .restore_state(&mut state.per_particle, fluid.len())?;
         restore_wall_motion(&mut self.motion, &state.wall_motion, &mut self.system.walls)?;
         self.system.lists.restore_partition(state.partition);
         self.system.update(fluid)?;
