@@ -274,7 +274,9 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
             .as_deref()
             .ok_or_else(|| MotionError::Failed("rigid bodies need the fluid's pressure".into()))?;
         let position = &fluid.position[..owned];
-        self.grid.build(position)?;
+        // A position the grid cannot bin (one that is not finite) fails the step on every
+        // rank at once: the ranks agree on it in the collective below.
+        let built = self.grid.build(position);
         let Coupling {
             kernel,
             smoothing_length,
@@ -285,7 +287,7 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
         // Each rank sums over the particles it owns; the ranks' sums, added in rank order,
         // are those over every particle, and every rank moves the bodies alike.
         self.sums.clear();
-        for body in &self.bodies {
+        for body in self.bodies.iter().filter(|_| built.is_ok()) {
             let field = FluidField {
                 position,
                 mass: &fluid.mass[..owned],
@@ -298,7 +300,23 @@ impl<const D: usize> WallMotion<D> for RigidBodies<D> {
             let sums = &mut self.sums;
             kernel.dispatch(*smoothing_length, LoadSums { field, body, sums });
         }
+        if built.is_err() {
+            let points = self
+                .bodies
+                .iter()
+                .map(|body| body.surface.len())
+                .sum::<usize>();
+            self.sums.resize(PRESSURE_SUMS * points, 0.0);
+        }
+        self.sums.push(Real::from(u8::from(built.is_err())));
         flow.sum_over_ranks(&mut self.sums);
+        let failed = self.sums.pop().is_some_and(|ranks| ranks > 0.0);
+        built?;
+        if failed {
+            return Err(MotionError::Failed(
+                "the bodies' load: the neighbour search failed on another rank".into(),
+            ));
+        }
         let mut start = 0;
         for body in &mut self.bodies {
             let end = start + PRESSURE_SUMS * body.surface.len();

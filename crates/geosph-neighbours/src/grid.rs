@@ -208,8 +208,9 @@ impl<const D: usize> CellGrid<D> {
     ///
     /// Runs in parallel for large sets; the result does not depend on the number of threads.
     /// Every particle must lie in the half-open domain `[min, max)` on every axis (wrap periodic
-    /// axes with [`Domain::wrap`] first); otherwise the grid is left empty and the error names
-    /// the first such particle.
+    /// axes with [`Domain::wrap`] first; after [`CellGrid::bin_outside_in_edge_cells`] a finite
+    /// position outside a closed axis is binned too); otherwise the grid is left empty and the
+    /// error names the first such particle.
     pub fn build(&mut self, position: &[Vector<D>]) -> Result<(), SearchError> {
         let n = position.len();
         if n > MAX_PARTICLES {

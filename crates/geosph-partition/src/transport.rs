@@ -166,6 +166,10 @@ impl<T: Transport + Sync + ?Sized> Transport for std::sync::Arc<T> {
         T::sum(self, value)
     }
 
+    fn sum_each(&self, values: &mut [Real]) {
+        T::sum_each(self, values);
+    }
+
     fn abort(&self, code: i32) -> ! {
         T::abort(self, code)
     }

@@ -211,7 +211,9 @@ pub trait Solver<const D: usize>: Send {
     /// Removes the particles `k` without `keep[k]` (particles that left the domain) from
     /// `particles` and the same entries from the solver's own per-particle state, keeping the order
     /// of the others; neighbour lists and cached rates are then those of the particles that
-    /// remain. Called between steps, only when some particle is removed.
+    /// remain. Called between steps, only when some particle is removed; in a distributed run
+    /// `keep` covers this rank's particles, owned then halo, and every rank calls it when
+    /// any rank removes one (collective; `PairLists::remove_particles`).
     fn remove_particles(
         &mut self,
         particles: &mut Particles<D>,

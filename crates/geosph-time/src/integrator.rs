@@ -426,6 +426,45 @@ mod tests {
         }
     }
 
+    /// Counts the calls an integrator makes of a system, in order: `p` prepare, `r` rates,
+    /// `b` begin_stage.
+    #[derive(Default)]
+    struct Calls(String);
+
+    impl ExplicitSystem<1> for Calls {
+        type Error = ();
+        fn prepare(&mut self, _: &mut Particles<1>) -> Result<(), ()> {
+            self.0.push('p');
+            Ok(())
+        }
+        fn rates(&mut self, _: &Particles<1>, _time: Real, _: &mut Rates<1>) {
+            self.0.push('r');
+        }
+        fn begin_stage(&mut self, _: &mut Particles<1>) {
+            self.0.push('b');
+        }
+    }
+
+    /// Every rate evaluation that no `prepare` precedes within the step follows a
+    /// `begin_stage` (a distributed system refreshes its halo there), and no other does.
+    #[test]
+    fn later_stages_begin_with_begin_stage() {
+        for (scheme, calls) in [
+            (Scheme::SymplecticEuler, "pr"),
+            (Scheme::LeapFrog, "prpr"),
+            (Scheme::PredictorCorrector, "prbr"),
+            (Scheme::RungeKutta4, "prbrbrbr"),
+        ] {
+            let mut particles = Particles::<1>::at_rest(vec![Vector::<1>::new(1.0)], 1.0, 1.0);
+            let mut system = Calls::default();
+            let mut integrator = Integrator::new(scheme, 1);
+            integrator
+                .step(&mut system, &mut particles, 0.0, 0.1)
+                .unwrap();
+            assert_eq!(system.0, calls, "{scheme:?}");
+        }
+    }
+
     /// Error in x and ρ at t = 1 for x(0) = 1, v(0) = 0, ρ(0) = 1 with `steps` steps.
     fn error(scheme: Scheme, steps: usize) -> (Real, Real) {
         let omega = 2.0;
