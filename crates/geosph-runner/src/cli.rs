@@ -97,8 +97,8 @@ pub fn end_ranks(options: &RunOptions, code: u8) -> std::process::ExitCode {
 
 /// Whether `error` ended every rank of a distributed run at the same step: an interrupt, a
 /// blow-up (found by the health check, whose outcome the ranks agree; a failed step is a
-/// solver error there, on the rank that failed), or a solver that does not run distributed (every rank
-/// finds it before the first step). The ranks other than 0 then exit with its status
+/// solver error there, on the rank that failed), or a solver that does not run distributed
+/// (every rank finds it before the first step). The ranks other than 0 then exit with its status
 /// without ending the job.
 pub fn ends_together(error: &crate::RunError) -> bool {
     matches!(
