@@ -38,32 +38,21 @@ impl<const D: usize> Observer<D> for WaterLevel {
     }
 }
 
-/// The floating box of [`a_floating_box_settles_at_the_archimedes_draft`] run to `end_time`
-/// with frames every `interval`.
-pub(crate) fn float_scene(end_time: Real, interval: Real) -> String {
-    format!(
-        r#"Scene(
-        name: "float", dimension: 2, dx: 0.02, end_time: {end_time},
-        output: (interval: {interval}, sample_interval: 0.01, vtk: {vtk}),
-        fluid: (blocks: [
-            Box(min: [0.0, 0.0], max: [0.3, 0.4]),
-            Box(min: [0.7, 0.0], max: [1.0, 0.4]),
-            Box(min: [0.3, 0.0], max: [0.7, 0.32]),
-        ]),
-        walls: [Tank(min: [0.0, 0.0], max: [1.0, 0.8])],
-        bodies: [(name: "box", shape: Box(min: [0.3, 0.32], max: [0.7, 0.52]),
-                  density: 500.0, friction: 0.0)],
-        solver: Wcsph(()),
-    )"#,
-        vtk = interval < end_time
-    )
+/// The floating box of [`a_floating_box_settles_at_the_archimedes_draft`]
+/// (`data/scenes/tests/floating-box.ron`) run to `end_time` with frames every `interval`.
+pub(crate) fn float_scene(end_time: Real, interval: Real) -> Scene {
+    let mut scene =
+        Scene::from_ron(include_str!("../../data/scenes/tests/floating-box.ron")).unwrap();
+    scene.end_time = end_time;
+    scene.output.interval = interval;
+    scene.output.vtk = interval < end_time;
+    scene
 }
 
-fn run<O>(scene: &str, folder: &Path, observer: &mut O) -> PathBuf
+fn run<O>(mut scene: Scene, folder: &Path, observer: &mut O) -> PathBuf
 where
     O: Observer<2> + Observer<3> + Send,
 {
-    let mut scene = Scene::from_ron(scene).unwrap();
     scene.folder = Some(folder.to_owned());
     let out = folder.join("out");
     let options = RunOptions {
@@ -90,7 +79,7 @@ fn a_floating_box_settles_at_the_archimedes_draft() {
         to: 0.24,
         dx: 0.02,
     };
-    let out = run(&scene, &folder, &mut level);
+    let out = run(scene, &folder, &mut level);
     let [height, centre, angle, force] =
         mean_columns(&out, &["level", "box_y", "box_angle", "box_Fy"], 2.0)[..]
     else {
@@ -175,8 +164,8 @@ const TOP: Real = 1.0;
 fn a_block_on_a_slope_slides_as_coulomb_friction_says() {
     let folder = scratch("bodies-slope");
     let dx = 0.02;
-    let scene = slope_scene(&folder, 0.4, 0.4);
-    let out = run(&scene, &folder, &mut geosph_runner::NoObserver);
+    let scene = Scene::from_ron(&slope_scene(&folder, 0.4, 0.4)).unwrap();
+    let out = run(scene, &folder, &mut geosph_runner::NoObserver);
     let down = Vector::<2>::new(SLOPE.cos(), -SLOPE.sin());
     let state = |name: &str, time: Real| {
         let [x, y, vx, vy] = columns_at(&out, name, time);
@@ -349,6 +338,7 @@ fn a_floating_box_in_3d_carries_its_weight_on_the_water() {
                   density: 500.0, friction: 0.0)],
         solver: Wcsph(()),
     )"#;
+    let scene = Scene::from_ron(scene).unwrap();
     let out = run(scene, &folder, &mut geosph_runner::NoObserver);
     let [force, rx, ry] = mean_columns(&out, &["box_Fz", "box_rx", "box_ry"], 1.0)[..] else {
         unreachable!()

@@ -336,7 +336,7 @@ fn bad_restart_files_are_refused_with_one_line() {
 fn a_restart_with_rigid_bodies_matches_the_uninterrupted_run_bitwise() {
     let floating = crate::bodies::float_scene(0.3, 0.05);
     for solver in ["wcsph", "dfsph"] {
-        let mut scene = Scene::from_ron(&floating).unwrap();
+        let mut scene = floating.clone();
         scene.solver = SolverSpec::from_name(solver).unwrap();
         assert_restart_is_bitwise(&scene, &format!("float-{solver}"), || NoObserver, 0.15);
     }

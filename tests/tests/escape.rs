@@ -11,33 +11,13 @@ use geosph_runner::health::{self, Quantity};
 use geosph_runner::{NoObserver, RunError, RunOptions, run};
 use geosph_scene::{Scene, SolverSpec};
 
-/// Water 1 m × 1 m at dx = 0.1 m (100 particles) in an open tank, and one particle at
-/// (0.55, 10.55) m, far above it. All start with the slow expansion v = 0.5/s · (x − (0.55,
-/// 0.5) m): the water at most 0.25 m/s, which the tank stops, the lone particle 5.03 m/s
-/// straight up, which takes it through the top of the domain (y = 11 m) at
-/// t = (5.03 − √(5.03² − 2 g · 0.45)) / g = 0.099 s. With the default
-/// `health.max_escaped_fraction` of 1 %, one of 101 particles (0.99 %) may leave.
+/// The lone particle of `data/scenes/tests/lone-particle.ron`: 100 particles of water in an
+/// open tank and one thrown up through the top of the domain, which it crosses at
+/// t = 0.099 s. With the default `health.max_escaped_fraction` of 1 %, one of 101 particles
+/// (0.99 %) may leave.
 pub(crate) fn lone_particle_scene(solver: &str) -> Scene {
-    let mut scene = Scene::from_ron(
-        r#"Scene(
-            name: "escape",
-            dimension: 2,
-            dx: 0.1,
-            end_time: 0.3,
-            output: (interval: 0.05, sample_interval: 0.01, vtk: true),
-            domain: (min: [-0.5, -0.5], max: [1.5, 11.0]),
-            fluid: (
-                blocks: [
-                    Box(min: [0.0, 0.0], max: [1.0, 1.0]),
-                    Box(min: [0.5, 10.5], max: [0.6, 10.6]),
-                ],
-                velocity: Stretch(centre: [0.55, 0.5], rate: 0.5),
-            ),
-            walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.5])],
-            solver: Wcsph(()),
-        )"#,
-    )
-    .unwrap();
+    let mut scene =
+        Scene::from_ron(include_str!("../../data/scenes/tests/lone-particle.ron")).unwrap();
     scene.solver = match solver {
         "soil" => SolverSpec::Soil(Default::default()),
         name => SolverSpec::from_name(name).unwrap(),

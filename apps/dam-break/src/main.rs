@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
+use geosph_runner::RunError;
 use geosph_runner::cli::{self, RunArgs};
-use geosph_runner::{RunError, interrupt};
 use geosph_scene::{Scene, SolverSpec};
 
 /// Dam break with SPH, compared with the experiments of Martin & Moyce (1952).
@@ -146,19 +146,22 @@ fn main() -> ExitCode {
             );
             ExitCode::SUCCESS
         }
-        // Every rank stops at the same step on an interrupt or a blow-up: the others exit
-        // without ending the job, so that rank 0 finishes its files and message.
+        // Every rank stops at the same step on an interrupt or a blow-up: the others wait
+        // until rank 0 has written its files and message.
         Err(dam_break::Error::Run(error)) if !root && cli::ends_together(&error) => {
-            ExitCode::from(error.exit_code())
+            cli::end_together(&options, error.exit_code())
         }
         Err(dam_break::Error::Run(error @ RunError::Interrupted { .. })) => {
             eprintln!("dam-break: {error}");
-            ExitCode::from(interrupt::EXIT_INTERRUPTED)
+            cli::end_together(&options, error.exit_code())
         }
         Err(error) => {
             eprintln!("error: {error}");
             match error {
                 // 3 for a blow-up (the report is in the output folder), 1 otherwise.
+                dam_break::Error::Run(error) if cli::ends_together(&error) => {
+                    cli::end_together(&options, error.exit_code())
+                }
                 dam_break::Error::Run(error) => cli::end_ranks(&options, error.exit_code()),
                 _ => cli::end_ranks(&options, 1),
             }

@@ -350,19 +350,7 @@ fn a_distributed_blow_up_is_reported_once_with_its_files() {
 fn rigid_bodies_move_on_several_ranks_as_on_one_process() {
     let out = folder("bodies-mpi");
     std::fs::create_dir_all(&out).unwrap();
-    let scene = r#"Scene(
-        name: "float", dimension: 2, dx: 0.02, end_time: 0.3,
-        output: (interval: 0.3, sample_interval: 0.01, vtk: false),
-        fluid: (blocks: [
-            Box(min: [0.0, 0.0], max: [0.3, 0.4]),
-            Box(min: [0.7, 0.0], max: [1.0, 0.4]),
-            Box(min: [0.3, 0.0], max: [0.7, 0.32]),
-        ]),
-        walls: [Tank(min: [0.0, 0.0], max: [1.0, 0.8])],
-        bodies: [(name: "box", shape: Box(min: [0.3, 0.32], max: [0.7, 0.52]),
-                  density: 500.0, friction: 0.0)],
-        solver: Wcsph(()),
-    )"#;
+    let scene = include_str!("../../../data/scenes/tests/floating-box.ron");
     let scene_file = out.join("float.ron");
     std::fs::write(&scene_file, scene).unwrap();
     let run = |ranks: usize| {
@@ -370,6 +358,8 @@ fn rigid_bodies_move_on_several_ranks_as_on_one_process() {
         let args = [
             "--scene",
             scene_file.to_str().unwrap(),
+            "--end-time",
+            "0.3",
             "--quiet",
             "--out",
             folder.to_str().unwrap(),
@@ -432,28 +422,22 @@ fn rigid_bodies_move_on_several_ranks_as_on_one_process() {
 /// a step of the moment it crosses the top at t = 0.099 s. DFSPH's runs are compared to
 /// 0.12 s, past the escape: its round-off grows tenfold every 0.03 s or so here, as without
 /// an escape (docs/parallel.md; 3 × 10⁻¹¹ at 0.12 s, 2 × 10⁻⁹ at 0.15 s, 10⁻⁵ at 0.27 s,
-/// with the same steps, iterations and escape).
+/// with the same steps, iterations and escape). With `health.max_escaped_fraction` below one
+/// particle in 101, the escape is the blow-up one process diagnoses, reported once (every
+/// particle gathered for it) with its `blowup.txt`.
 #[test]
 fn a_particle_leaving_the_domain_leaves_a_distributed_run() {
     let out = folder("escape-mpi");
     std::fs::create_dir_all(&out).unwrap();
+    // With `health.max_escaped_fraction` below one particle in 101 ("too many"), the escape
+    // is a blow-up.
     let scene = |solver: &str| {
-        format!(
-            r#"Scene(
-            name: "escape", dimension: 2, dx: 0.1, end_time: 0.3,
-            output: (interval: 0.3, sample_interval: 0.01, vtk: false),
-            domain: (min: [-0.5, -0.5], max: [1.5, 11.0]),
-            fluid: (
-                blocks: [
-                    Box(min: [0.0, 0.0], max: [1.0, 1.0]),
-                    Box(min: [0.5, 10.5], max: [0.6, 10.6]),
-                ],
-                velocity: Stretch(centre: [0.55, 0.5], rate: 0.5),
-            ),
-            walls: [Tank(min: [0.0, 0.0], max: [1.0, 1.5])],
-            solver: {solver},
-        )"#
-        )
+        let (solver, health) = match solver.strip_suffix(" too many") {
+            Some(solver) => (solver, "health: (max_escaped_fraction: 0.005),"),
+            None => (solver, ""),
+        };
+        include_str!("../../../data/scenes/tests/lone-particle.ron")
+            .replace("solver: Wcsph(()),", &format!("solver: {solver}, {health}"))
     };
     let run = |solver: &str, ranks: usize| {
         let scene_file = out.join(format!("{solver}.ron"));
@@ -462,6 +446,7 @@ fn a_particle_leaving_the_domain_leaves_a_distributed_run() {
         let args = [
             "--scene",
             scene_file.to_str().unwrap(),
+            "--no-vtk",
             "--out",
             folder.to_str().unwrap(),
         ];
@@ -512,4 +497,24 @@ fn a_particle_leaving_the_domain_leaves_a_distributed_run() {
             }
         }
     }
+    let scene_file = out.join("too-many.ron");
+    std::fs::write(&scene_file, scene("Wcsph(()) too many")).unwrap();
+    let folder = out.join("too-many-2");
+    let args = [
+        "--scene",
+        scene_file.to_str().unwrap(),
+        "--no-vtk",
+        "--out",
+        folder.to_str().unwrap(),
+    ];
+    let output = mpiexec(2, APP, &args, TIMEOUT).expect("mpiexec on the PATH");
+    let text = text(&output);
+    assert_eq!(output.status.code(), Some(3), "{text}");
+    assert_eq!(
+        text.matches("1 of 101 particles (0.99 %) would have left the domain")
+            .count(),
+        1,
+        "{text}"
+    );
+    assert!(folder.join("blowup.txt").is_file(), "{text}");
 }

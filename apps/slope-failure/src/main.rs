@@ -8,8 +8,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
+use geosph_runner::RunError;
 use geosph_runner::cli::{self, RunArgs};
-use geosph_runner::{RunError, interrupt};
 use geosph_scene::{Region, Scene, SolverSpec};
 
 /// Granular column collapse and slope failure with elastoplastic soil SPH.
@@ -220,8 +220,9 @@ fn one_run_only(options: &geosph_runner::RunOptions, mode: &str) -> Result<(), E
 
 /// Prints `error` and returns the exit status: 3 for a blow-up (its report is in the output
 /// folder), the interrupt status after Ctrl-C (with `rerun`, what to do instead of a restart),
-/// 1 otherwise. In a distributed run rank 0 prints; an error that did not end every rank
-/// at the same step ends the job ([`cli::end_ranks`]).
+/// 1 otherwise. In a distributed run rank 0 prints; an error that ended every rank at the same
+/// step ends each once rank 0 has printed ([`cli::end_together`]), another ends the job
+/// ([`cli::end_ranks`]).
 fn failure(
     error: slope_failure::Error,
     rerun: Option<&str>,
@@ -230,18 +231,22 @@ fn failure(
     let root = options.out_dir.is_some();
     match error {
         slope_failure::Error::Run(error) if !root && cli::ends_together(&error) => {
-            ExitCode::from(error.exit_code())
+            cli::end_together(options, error.exit_code())
         }
         slope_failure::Error::Run(error @ RunError::Interrupted { .. }) => {
             match rerun {
                 Some(rerun) => eprintln!("slope-failure: interrupted; {rerun}"),
                 None => eprintln!("slope-failure: {error}"),
             }
-            ExitCode::from(interrupt::EXIT_INTERRUPTED)
+            cli::end_together(options, error.exit_code())
         }
         slope_failure::Error::Run(error) => {
             eprintln!("error: {error}");
-            cli::end_ranks(options, error.exit_code())
+            if cli::ends_together(&error) {
+                cli::end_together(options, error.exit_code())
+            } else {
+                cli::end_ranks(options, error.exit_code())
+            }
         }
         error => {
             eprintln!("error: {error}");

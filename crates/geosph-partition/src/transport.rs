@@ -81,6 +81,13 @@ pub trait Transport: Send {
         }
     }
 
+    /// Returns on each rank once every rank has called it: for a rank that must not end
+    /// before rank 0 has written its files (a collective reduction of nothing, which waits as
+    /// [`Transport::max`] does).
+    fn barrier(&self) {
+        self.max(0.0);
+    }
+
     /// Ends every rank of the run with exit status `code`: for an error some ranks met and
     /// others did not, which would leave those waiting in their next exchange.
     fn abort(&self, code: i32) -> ! {
@@ -168,6 +175,10 @@ impl<T: Transport + Sync + ?Sized> Transport for std::sync::Arc<T> {
 
     fn sum_each(&self, values: &mut [Real]) {
         T::sum_each(self, values);
+    }
+
+    fn barrier(&self) {
+        T::barrier(self);
     }
 
     fn abort(&self, code: i32) -> ! {

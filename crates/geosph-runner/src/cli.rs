@@ -81,25 +81,42 @@ pub fn launch_root() -> bool {
 /// Exit status `code`; in a distributed run every rank's at once (`Transport::abort`): an
 /// error on some ranks, a failed write on rank 0, must not leave the others waiting in their
 /// next exchange. Not for an error that ended every rank at the same step
-/// ([`ends_together`]): there the ranks other than 0 return their status without ending the
-/// job (they then wait in MPI's finalisation, which is collective, until rank 0 has written
-/// its files and message).
+/// ([`ends_together`]): that is [`end_together`].
 pub fn end_ranks(options: &RunOptions, code: u8) -> std::process::ExitCode {
-    if let Some(ranks) = options
-        .transport
-        .as_ref()
-        .filter(|ranks| ranks.0.size() > 1)
-    {
+    if let Some(ranks) = distributed(options) {
         ranks.0.abort(i32::from(code));
     }
     std::process::ExitCode::from(code)
 }
 
+/// Exit status `code` for an error that ended every rank at the same step
+/// ([`ends_together`]), called by rank 0 once it has printed the error and written its files.
+/// In a distributed run every rank waits there for rank 0 (the launcher ends the whole job
+/// when one rank exits with a failure, so a rank that left first could stop rank 0 before
+/// its message or its `blowup.txt`); then the ranks other than 0 exit with success and the
+/// job's status is rank 0's.
+pub fn end_together(options: &RunOptions, code: u8) -> std::process::ExitCode {
+    if let Some(ranks) = distributed(options) {
+        ranks.0.barrier();
+        if ranks.0.rank() != 0 {
+            return std::process::ExitCode::SUCCESS;
+        }
+    }
+    std::process::ExitCode::from(code)
+}
+
+/// The ranks of a run over more than one.
+fn distributed(options: &RunOptions) -> Option<&crate::Ranks> {
+    options
+        .transport
+        .as_ref()
+        .filter(|ranks| ranks.0.size() > 1)
+}
+
 /// Whether `error` ended every rank of a distributed run at the same step: an interrupt, a
 /// blow-up (found by the health check, whose outcome the ranks agree; a failed step is a
 /// solver error there, on the rank that failed), or a solver that does not run distributed
-/// (every rank finds it before the first step). The ranks other than 0 then exit with its status
-/// without ending the job.
+/// (every rank finds it before the first step). Every rank then ends with [`end_together`].
 pub fn ends_together(error: &crate::RunError) -> bool {
     matches!(
         error,
@@ -112,11 +129,7 @@ pub fn ends_together(error: &crate::RunError) -> bool {
 /// Whether the run is distributed over more than one rank (`what`, a mode that is not one
 /// run, is then refused with a message saying so).
 pub fn refuse_ranks(options: &RunOptions, what: &str) -> Result<(), String> {
-    match options
-        .transport
-        .as_ref()
-        .filter(|ranks| ranks.0.size() > 1)
-    {
+    match distributed(options) {
         Some(_) => Err(format!(
             "{what} does not run on several ranks yet: start it without mpiexec"
         )),
