@@ -196,6 +196,22 @@ fn front_tracker(scene: &Scene) -> impl Fn() -> FrontTracker {
     move || FrontTracker::new(column)
 }
 
+/// With SPS turbulence (C_s = 2, so that its stress is large) the restart is bitwise too: the
+/// stresses come from the state, and the largest eddy viscosity of the last step, which
+/// bounds the next step, is in the checkpoint.
+#[test]
+fn a_restarted_dam_break_with_sps_matches_the_uninterrupted_run_bitwise() {
+    let mut scene = coarse_dam_break("wcsph");
+    let SolverSpec::Wcsph(wcsph) = &mut scene.solver else {
+        unreachable!("a WCSPH scene")
+    };
+    wcsph.sps = Some(geosph_sph::SpsConfig {
+        smagorinsky: 2.0,
+        ..Default::default()
+    });
+    assert_restart_is_bitwise(&scene, "wcsph-sps", || NoObserver, 0.12);
+}
+
 #[test]
 fn a_restarted_wcsph_dam_break_matches_the_uninterrupted_run_bitwise() {
     let scene = coarse_dam_break("wcsph");

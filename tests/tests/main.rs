@@ -20,6 +20,7 @@ mod plane_strain_slab;
 mod soil_element;
 mod soil_sph;
 mod surface;
+mod turbulence;
 mod wall_pressure;
 mod wall_slip;
 mod wcsph;

@@ -8,7 +8,7 @@ use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_neighbours::SearchError;
 use geosph_sph::eos::EquationOfState;
 use geosph_sph::lattice::{lattice_gradient_factor, lattice_kernel_sum};
-use geosph_sph::{Solver, SphSetup};
+use geosph_sph::{Solver, SphSetup, SubParticleStress};
 use geosph_time::Integrator;
 
 use crate::config::{DensityConfig, IncompressibleConfig, IncompressibleMethod, WcsphConfig};
@@ -82,6 +82,9 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
             1.0 / lattice_gradient_factor(&kernel, setup.spacing, setup.spacing.powi(D as i32));
         system.xsph = config.xsph;
         system.shifting = config.shifting;
+        system.sps = config
+            .sps
+            .map(|sps| SubParticleStress::new(sps, setup.spacing));
         system.spacing = setup.spacing;
         system.clamp_negative_pressure = config.clamp_negative_pressure;
         system.density_mode = match config.density {

@@ -6,7 +6,8 @@ use geosph_core::{Real, Vector};
 use geosph_sph::config_error::{ConfigError, in_range, positive};
 use geosph_sph::eos::EosKind;
 use geosph_sph::{
-    ArtificialMonaghan1992, LaminarMorris1997, ParticleShifting, ParticleStart, ViscousTerm,
+    ArtificialMonaghan1992, LaminarMorris1997, ParticleShifting, ParticleStart, SpsConfig,
+    ViscousTerm,
 };
 use geosph_time::Scheme;
 use serde::{Deserialize, Serialize};
@@ -163,6 +164,9 @@ pub struct WcsphConfig {
     pub xsph: Real,
     /// δ⁺-SPH particle shifting (default `None`: off; `Some(())` for Sun et al.'s settings).
     pub shifting: Option<ParticleShifting>,
+    /// Sub-particle-scale turbulence (default `None`: off; `Some(())` for Dalrymple & Rogers'
+    /// coefficients), beside the viscous term.
+    pub sps: Option<SpsConfig>,
     /// Steps between Shepard density re-initialisations (default 0: never).
     pub shepard_every: usize,
     /// Clamp negative pressure to zero (default false).
@@ -198,6 +202,7 @@ impl Default for WcsphConfig {
             },
             xsph: 0.0,
             shifting: None,
+            sps: None,
             shepard_every: 0,
             clamp_negative_pressure: false,
             background_pressure: 0.0,
@@ -228,6 +233,9 @@ impl WcsphConfig {
         }
         self.viscosity.validate()?;
         in_range("xsph", self.xsph, 0.0, 1.0)?;
+        if let Some(sps) = &self.sps {
+            sps.validate("sps")?;
+        }
         if let Some(shifting) = &self.shifting {
             shifting.validate("shifting")?;
         }

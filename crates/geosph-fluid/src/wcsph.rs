@@ -6,8 +6,8 @@ use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::{
-    NoShift, Pair, PairLists, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm, Viscosity,
-    ViscousTerm, ViscousVisitor, max_speed,
+    NoShift, NoSps, Pair, PairLists, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm,
+    SubParticleStress, TurbulenceTerm, Viscosity, ViscousTerm, ViscousVisitor, max_speed,
 };
 use geosph_time::{ExplicitSystem, Rates};
 use rayon::prelude::*;
@@ -25,13 +25,14 @@ pub enum DensityMode {
 }
 
 /// The physics of one WCSPH rate evaluation, monomorphised over the kernel `K`; the pair loop
-/// of the rates is monomorphised over the viscous and diffusion terms and the particle shift
-/// as well, resolved from [`ViscousTerm`], [`DiffusionTerm`] and
-/// [`WcsphSystem::shifting`] ([`ShiftTerm`]) once per evaluation.
+/// of the rates is monomorphised over the viscous and diffusion terms, the particle shift
+/// and the SPS stress as well, resolved from [`ViscousTerm`], [`DiffusionTerm`],
+/// [`WcsphSystem::shifting`] ([`ShiftTerm`]) and [`WcsphSystem::sps`] ([`TurbulenceTerm`])
+/// once per evaluation.
 ///
 /// Momentum in the symmetric, momentum-conserving form (Monaghan 1992, eq. 3.3):
 ///
-/// dv_i/dt = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij + viscosity + g,
+/// dv_i/dt = −Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) ∇_i W_ij + viscosity + SPS stress + g,
 ///
 /// where j runs over fluid and wall neighbours; a wall particle has mass ρ₀ V_w and the
 /// pressure and density of [`DummyAdami2012`]. Continuity:
@@ -60,6 +61,8 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     pub xsph: Real,
     /// Particle shifting (off: `None`), added to the drift like XSPH.
     pub shifting: Option<ParticleShifting>,
+    /// Sub-particle-scale turbulence (off: `None`).
+    pub sps: Option<SubParticleStress<D>>,
     /// Lattice spacing Δx (the reference distance of shifting's anti-clustering term).
     pub spacing: Real,
     /// The step Δt being taken (set by the solver before each step; shifting scales with it).
@@ -113,6 +116,7 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
             gradient_correction: 1.0,
             xsph: 0.0,
             shifting: None,
+            sps: None,
             spacing: 0.0,
             time_step: 0.0,
             density_mode: DensityMode::Continuity,
@@ -266,6 +270,19 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             self.lists.inner(),
         );
 
+        if let Some(sps) = &mut self.sps {
+            let walls = &self.walls;
+            sps.update(
+                &self.kernel,
+                &self.lists,
+                &fluid.position,
+                &fluid.velocity,
+                &self.volume,
+                &fluid.density,
+                walls,
+                self.gradient_correction,
+            );
+        }
         let shift = self.shifting.map(|shifting| {
             let owned = self.lists.owned(fluid.len());
             let mut speed = [max_speed(&fluid.velocity[..owned])];
@@ -286,6 +303,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             rates: &mut *rates,
             diffusion: &self.diffusion,
             shift,
+            sps: self.sps.as_ref(),
         });
         if self.xsph > 0.0 {
             let add = shift.is_some();
@@ -322,6 +340,8 @@ struct RatePass<'a, const D: usize, K: Kernel<D>> {
     diffusion: &'a DiffusionTerm<D>,
     /// The shift of this step, when shifting is on: its sums ride along in the pair loop.
     shift: Option<ShiftStep>,
+    /// The SPS stresses of this evaluation, when SPS is on.
+    sps: Option<&'a SubParticleStress<D>>,
 }
 
 impl<const D: usize, K: Kernel<D>> ViscousVisitor<D> for RatePass<'_, D, K> {
@@ -348,19 +368,23 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> DiffusionVisitor<D>
     type Output = ();
 
     fn visit<F: DensityDiffusion<D>>(self, diffusion: &F) {
-        match self.pass.shift {
-            None => self.pass.run(self.viscosity, diffusion, NoShift),
-            Some(step) => self.pass.run(self.viscosity, diffusion, step),
+        let viscosity = self.viscosity;
+        match (self.pass.shift, self.pass.sps) {
+            (None, None) => self.pass.run(viscosity, diffusion, NoShift, NoSps),
+            (Some(step), None) => self.pass.run(viscosity, diffusion, step, NoSps),
+            (None, Some(sps)) => self.pass.run(viscosity, diffusion, NoShift, sps.term()),
+            (Some(step), Some(sps)) => self.pass.run(viscosity, diffusion, step, sps.term()),
         }
     }
 }
 
 impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
-    fn run<V: Viscosity<D>, F: DensityDiffusion<D>, S: ShiftTerm>(
+    fn run<V: Viscosity<D>, F: DensityDiffusion<D>, S: ShiftTerm, T: TurbulenceTerm<D>>(
         self,
         viscosity: V,
         diffusion: &F,
         shift: S,
+        sps: T,
     ) {
         let Self {
             kernel,
@@ -411,6 +435,9 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
                     );
                     a_i -= grad * (mass[j] * (p_over_rho2_i + pressure_term[j]));
                     a_i += viscosity.acceleration(&pair);
+                    if T::ON {
+                        a_i += sps.acceleration(i, j, mass[j], &grad);
+                    }
                     drho_i += mass[j] * pair.v_ij.dot(&grad);
                     drho_i += diffusion.rate(i, j, &pair, volume[j]);
                     if S::ON {
@@ -435,6 +462,9 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
                     let p_over_rho2_w = gradient_correction * walls.pressure[w] / (rho_w * rho_w);
                     a_i -= grad * (mass_w * (p_over_rho2_i + p_over_rho2_w));
                     a_i += viscosity.acceleration(&pair);
+                    if T::ON {
+                        a_i += sps.wall_acceleration(i, mass_w, &grad);
+                    }
                     drho_i += mass_w * (v_i - walls.velocity[w]).dot(&grad);
                     if S::ON {
                         let (w_iw, weighted) = (kernel.value(neighbour.r), grad * walls.volume[w]);

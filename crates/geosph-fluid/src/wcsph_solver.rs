@@ -77,6 +77,11 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
                 None => max_speed(&fluid.velocity[..owned]),
             },
             max_speed(&self.integrator.rates().acceleration[..owned]),
+            // ν_t of the last rates (those of the end of the previous step).
+            self.system
+                .sps
+                .as_ref()
+                .map_or(0.0, |sps| sps.max_eddy_viscosity()),
         ];
         lists.max_over_ranks(&mut largest);
         let limits = StepLimits {
@@ -86,7 +91,7 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             // Moving walls (bodies) count as the flow does: a body must not outrun the step.
             max_speed: largest[0],
             max_acceleration: largest[1].max(gravity),
-            kinematic_viscosity: self.system.viscosity.kinematic_viscosity(),
+            kinematic_viscosity: self.system.viscosity.kinematic_viscosity() + largest[2],
         };
         let dt = event_step(time_step(&limits), max_dt);
         self.system.time_step = dt;
@@ -194,6 +199,12 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         per_particle.push_matrices("acceleration", &rates.acceleration[..owned]);
         per_particle.push("density_rate", &rates.density_rate[..owned]);
         per_particle.push_matrices("position_correction", &rates.position_correction[..owned]);
+        // The largest ν_t of the last rates over the ranks: the next step's viscous limit.
+        if let Some(sps) = &self.system.sps {
+            let mut largest = [sps.max_eddy_viscosity()];
+            lists.max_over_ranks(&mut largest);
+            state.arrays.push("max_eddy_viscosity", &largest);
+        }
         state.partition = lists.partition_state();
         if state.partition.is_none() {
             if let Some(listed) = lists.listed_positions() {
@@ -222,6 +233,9 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             density_rate: per_particle.take_values("density_rate", n)?,
             position_correction: per_particle.take_matrices("position_correction", n)?,
         };
+        if let Some(sps) = &mut self.system.sps {
+            sps.restore_max_eddy_viscosity(state.arrays.take_value("max_eddy_viscosity")?);
+        }
         self.integrator.restore_rates(rates, current);
         restore_wall_motion(&mut self.motion, &state.wall_motion, &mut self.system.walls)?;
         if state.per_particle.contains("listed_position") {

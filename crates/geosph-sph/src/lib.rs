@@ -19,6 +19,8 @@
 //! - [`density_error`]: the density-error reductions, in a fixed order.
 //! - [`lattice`]: kernel sums and gradient calibration on the initial lattice.
 //! - [`shifting`]: δ⁺-SPH particle shifting with free-surface detection.
+//! - [`sps`]: sub-particle-scale turbulence, the Smagorinsky stress of Dalrymple & Rogers
+//!   (2006).
 //! - [`wall_contact`]: [`keep_out_of_walls`], no particle ends a step behind a wall's surface.
 //! - [`wall_motion`]: [`WallMotion`], walls a solver moves once per step (rigid bodies).
 //! - [`surface_load`]: the force and moment of the fluid's pressure on a surface.
@@ -34,6 +36,7 @@ pub mod pair_arrays;
 pub mod setup;
 pub mod shifting;
 pub mod solver;
+pub mod sps;
 pub mod state;
 pub mod surface_load;
 pub mod viscosity;
@@ -52,6 +55,7 @@ pub use shifting::{NoShift, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm, S
 pub use solver::{
     Solver, SolverError, StageReport, StepReport, event_step, max_speed, restore_wall_motion,
 };
+pub use sps::{NoSps, SpsConfig, SpsTerm, SubParticleStress, TurbulenceTerm};
 pub use state::{PartitionState, SolverState, StateArrays, StateError};
 pub use viscosity::{
     ArtificialMonaghan1992, Inviscid, LaminarMorris1997, Pair, Viscosity, ViscousTerm,
