@@ -9,7 +9,7 @@ use geosph_fluid::incompressible::{PressureIteration, PressureSource};
 use geosph_kernels::KernelKind;
 use geosph_runner::{NoObserver, Observer, RunOptions, Summary};
 use geosph_scene::{Scene, SolverSpec, WallSpec};
-use geosph_sph::ParticleShifting;
+use geosph_sph::{ParticleShifting, SpsConfig};
 
 use crate::Config;
 use crate::laminar::{self, Flow, ProfileError};
@@ -369,12 +369,16 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
         SolverSpec::Wcsph(wcsph) => {
             wcsph.cfl *= config.dt_factor;
             wcsph.diffusion = match config.variant {
-                "fourtakas" | "default" => DiffusionConfig::Fourtakas { delta: 0.1 },
+                "fourtakas" | "default" | "sps" => DiffusionConfig::Fourtakas { delta: 0.1 },
                 "molteni" => DiffusionConfig::Molteni { delta: 0.1 },
                 "antuono" => DiffusionConfig::Antuono { delta: 0.1 },
                 "none" => DiffusionConfig::None,
                 other => return Err(format!("unknown WCSPH variant `{other}`")),
             };
+            // SPS turbulence with Dalrymple & Rogers' coefficients, beside the default terms.
+            if config.variant == "sps" {
+                wcsph.sps = Some(SpsConfig::default());
+            }
             if case == Case::TaylorGreen {
                 wcsph.viscosity = laminar;
                 // Shifting keeps the particles ordered under the suction of the vortex cores

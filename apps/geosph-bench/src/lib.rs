@@ -35,8 +35,8 @@ pub struct Config {
     pub solver: &'static str,
     /// Kernel name, as in a scene.
     pub kernel: &'static str,
-    /// A solver option set: for WCSPH the density diffusion (`molteni`, `antuono`, `none`),
-    /// otherwise `default`.
+    /// A solver option set: for WCSPH the density diffusion (`molteni`, `antuono`, `none`)
+    /// or the default diffusion with SPS turbulence (`sps`), otherwise `default`.
     pub variant: &'static str,
     /// Particle spacing in m.
     pub dx: Real,

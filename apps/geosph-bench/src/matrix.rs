@@ -89,7 +89,7 @@ pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
                 }
             }
             if solver == "wcsph" && !case.is_soil() {
-                for other in ["molteni", "antuono", "none"] {
+                for other in ["molteni", "antuono", "none", "sps"] {
                     for &dx in &dxs {
                         configs.push(config(solver, "wendland-c2", other, dx, 1.0));
                     }

@@ -1,5 +1,5 @@
-//! Issue 26's validation: the 2D dam break (WCSPH with three integrators, PCISPH, IISPH and
-//! DFSPH) and the soil
+//! Issue 26's validation: the 2D dam break (WCSPH with three integrators and with SPS,
+//! PCISPH, IISPH and DFSPH) and the soil
 //! collapse on 1, 2 and 4 ranks under `mpiexec`, every particle against the same run in one
 //! process (`geosph-distributed-check`;
 //! its documentation states the round-off bounds). Needs the feature `mpi` and an MPI
@@ -11,7 +11,7 @@ use geosph_mpi::launch::{APP_TIMEOUT as TIMEOUT, mpiexec, text};
 const CHECK: &str = env!("CARGO_BIN_EXE_geosph-distributed-check");
 
 /// The cases of the check, by name.
-const CASES: [&str; 9] = [
+const CASES: [&str; 10] = [
     "dam-break-2d",
     "dam-break-2d/pcisph",
     "dam-break-2d/iisph",
@@ -20,6 +20,7 @@ const CASES: [&str; 9] = [
     "dam-break-2d-options",
     "dam-break-2d-runge-kutta",
     "dam-break-2d-predictor-corrector",
+    "dam-break-2d-sps",
     "granular-collapse",
 ];
 
