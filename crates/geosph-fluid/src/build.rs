@@ -61,6 +61,7 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
             physical_viscosity: config.viscosity.is_physical(),
             clamp_negative: config.clamp_wall_pressure,
         };
+        let cell_index = setup.cell_index;
         let mut system = WcsphSystem::new(
             kernel,
             setup.domain,
@@ -78,6 +79,9 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
             wall_condition,
             config.neighbour_skin,
         )?;
+        system
+            .lists
+            .use_cell_index(cell_index, &system.walls.position)?;
         system.gradient_correction =
             1.0 / lattice_gradient_factor(&kernel, setup.spacing, setup.spacing.powi(D as i32));
         system.xsph = config.xsph;
@@ -173,6 +177,7 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
             .viscosity
             .term(kernel.smoothing_length(), setup.sound_speed)
             .calibrated(&kernel, setup.spacing, volume);
+        let cell_index = setup.cell_index;
         let mut system = PressureSystem::new(
             kernel,
             setup.domain,
@@ -183,6 +188,9 @@ impl<const D: usize> IncompressibleBuilder<'_, D> {
             config.wall_pressure,
             config.wall_slip,
         )?;
+        system
+            .lists
+            .use_cell_index(cell_index, &system.walls.position)?;
         system.shifting = config.shifting;
         system.renormalise_gradients = config.renormalise_gradients;
         let settings = PressureSolveSettings {

@@ -40,6 +40,7 @@
 //!     gravity: Vector::<2>::new(0.0, -9.81),
 //!     walls: generate::tank(&min, &max, dx, 3, true, 1000.0),
 //!     spacing: dx,
+//!     cell_index: Default::default(),
 //! };
 //! let mut solver = build_wcsph(&WcsphConfig::default(), setup, &mut water)?;
 //! let mut time = 0.0;

@@ -31,7 +31,8 @@ pub enum SearchError {
     /// along one axis).
     #[error(
         "cell grid of {cells_per_axis:?} cells per axis is too large (at most {limit} cells in \
-         all, and 2^(64/D) along one axis): the domain is too large for this search radius"
+         all, and 2^(64/D) along one axis): the domain is too large for this search radius \
+         (a hashed cell index, a scene's `domain.cells: Hashed`, holds the occupied cells only)"
     )]
     TooManyCells {
         /// Cells each axis would need (saturated at `usize::MAX`).

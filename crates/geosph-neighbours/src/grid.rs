@@ -6,6 +6,7 @@ use geosph_core::{Domain, Real, Vector};
 use rayon::prelude::*;
 
 use crate::error::SearchError;
+use crate::hashed::HashedCells;
 use crate::scratch::QueryScratch;
 
 /// Relative amount by which a cell edge exceeds the search radius.
@@ -16,7 +17,8 @@ use crate::scratch::QueryScratch;
 /// about 10⁹ cells from the origin.
 pub const CELL_MARGIN: Real = 1e-6;
 
-/// Largest number of cells in a grid: cell indices are stored as `u32`.
+/// Largest number of cells in a dense grid ([`CellGrid::new`]): cell indices are stored as
+/// `u32`. A hashed grid ([`CellGrid::hashed`]) has no such limit.
 pub const MAX_CELLS: usize = u32::MAX as usize;
 
 /// Largest number of particles in a built set: particle indices are stored as `u32`.
@@ -33,6 +35,18 @@ const CELL_CHUNK: usize = 4096;
 
 /// Marks a particle outside the domain in `cell_of` during a build.
 const INVALID_CELL: u32 = u32::MAX;
+
+/// How a [`CellGrid`] indexes its cells.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CellIndex {
+    /// One offset per cell of the domain ([`CellGrid::new`]): the fastest for particles that
+    /// fill their domain.
+    #[default]
+    Dense,
+    /// The occupied cells only, in a hash table ([`CellGrid::hashed`]): for unbounded or very
+    /// sparse domains.
+    Hashed,
+}
 
 /// The geometry of the grid: how a position maps to a cell. Small and `Copy`, so parallel
 /// closures can use it while the grid's buffers are borrowed mutably.
@@ -104,6 +118,10 @@ impl<const D: usize> CellMap<D> {
 ///
 /// All buffers are kept between builds, so rebuilding for a moved particle set of the same
 /// size does not allocate.
+///
+/// The cells' index is dense ([`CellGrid::new`]: one offset per cell of the domain) or
+/// hashed ([`CellGrid::hashed`]: the occupied cells only, for unbounded or sparse domains;
+/// `hashed.rs`). Both give the same lists, bitwise.
 #[derive(Clone, Debug)]
 pub struct CellGrid<const D: usize> {
     pub(crate) domain: Domain<D>,
@@ -113,8 +131,12 @@ pub struct CellGrid<const D: usize> {
     pub(crate) cell_start: Vec<u32>,
     /// Particle indices sorted by cell, ascending within a cell.
     pub(crate) particle_index: Vec<u32>,
-    /// Linear cell index of each particle of the built set.
+    /// Linear cell index of each particle of the built set (hashed: its occupied cell's
+    /// rank).
     pub(crate) cell_of: Vec<u32>,
+    /// The hashed index of the occupied cells (`None`: dense, `cell_start`), with the
+    /// particles' linear cells of a build.
+    hashed: Option<(HashedCells, Vec<u64>)>,
     /// Scratch: next free slot of each cell during the scatter of the counting sort.
     cursor: Vec<u32>,
     /// Scratch of the queries.
@@ -125,6 +147,25 @@ impl<const D: usize> CellGrid<D> {
     /// An empty grid over `domain` for the search radius `radius` (call [`CellGrid::build`]
     /// before querying; until then it holds no particles).
     pub fn new(domain: Domain<D>, radius: Real) -> Result<Self, SearchError> {
+        Self::with_index(domain, radius, CellIndex::Dense)
+    }
+
+    /// An empty grid like [`CellGrid::new`] whose index holds the occupied cells only, in a
+    /// hash table (Ihmsen et al. 2011's compact hashing; `hashed.rs`): for unbounded or very
+    /// sparse domains, where a dense index of every cell would cost more than the particles.
+    /// The cells may number up to 2⁶⁴ (2²¹ per axis in 3D, the Morton codes' limit); the
+    /// neighbour lists are those of the dense grid, bitwise.
+    pub fn hashed(domain: Domain<D>, radius: Real) -> Result<Self, SearchError> {
+        Self::with_index(domain, radius, CellIndex::Hashed)
+    }
+
+    /// An empty grid with the cell index `index`: [`CellGrid::new`] or [`CellGrid::hashed`].
+    pub fn with_index(
+        domain: Domain<D>,
+        radius: Real,
+        index: CellIndex,
+    ) -> Result<Self, SearchError> {
+        let hashed = index == CellIndex::Hashed;
         const { assert!(D >= 1 && D <= 3, "CellGrid supports 1, 2 and 3 dimensions") };
         if !(radius.is_finite() && radius > 0.0) {
             return Err(SearchError::InvalidRadius { radius });
@@ -157,14 +198,15 @@ impl<const D: usize> CellGrid<D> {
         } else {
             1usize << (64 / D)
         };
+        let limit = if hashed { usize::MAX } else { MAX_CELLS };
         let total = counts
             .iter()
             .try_fold(1usize, |acc, &n| acc.checked_mul(n))
-            .filter(|&t| t <= MAX_CELLS);
+            .filter(|&t| t <= limit);
         let Some(total) = total.filter(|_| counts.iter().all(|&n| n <= morton_limit)) else {
             return Err(SearchError::TooManyCells {
                 cells_per_axis: counts.to_vec(),
-                limit: MAX_CELLS,
+                limit,
             });
         };
         let mut strides = [1usize; D];
@@ -184,9 +226,10 @@ impl<const D: usize> CellGrid<D> {
             domain,
             radius,
             map,
-            cell_start: vec![0; total + 1],
+            cell_start: vec![0; if hashed { 1 } else { total + 1 }],
             particle_index: Vec::new(),
             cell_of: Vec::new(),
+            hashed: hashed.then(Default::default),
             cursor: Vec::new(),
             scratch: QueryScratch::default(),
         })
@@ -220,6 +263,27 @@ impl<const D: usize> CellGrid<D> {
             });
         }
         let map = self.map;
+        if let Some((cells, cell_key)) = &mut self.hashed {
+            cell_key.resize(n, 0);
+            let outside = cell_key
+                .par_iter_mut()
+                .zip(position.par_iter())
+                .enumerate()
+                .filter_map(|(i, (key, x))| match map.cell_coords(x) {
+                    Some(c) => {
+                        *key = map.linear(&c) as u64;
+                        None
+                    }
+                    None => Some(i),
+                })
+                .min();
+            if let Some(index) = outside {
+                self.clear();
+                return Err(self.outside(index, position));
+            }
+            cells.build(cell_key, &mut self.particle_index, &mut self.cell_of);
+            return Ok(());
+        }
         self.cell_of.resize(n, 0);
         let any_outside = self
             .cell_of
@@ -246,12 +310,7 @@ impl<const D: usize> CellGrid<D> {
                 .position(|&c| c == INVALID_CELL)
                 .expect("a particle was flagged outside");
             self.clear();
-            return Err(SearchError::OutsideDomain {
-                index,
-                position: position[index].iter().copied().collect(),
-                min: self.domain.min.iter().copied().collect(),
-                max: self.domain.max.iter().copied().collect(),
-            });
+            return Err(self.outside(index, position));
         }
 
         let cells = self.cell_start.len() - 1;
@@ -286,11 +345,47 @@ impl<const D: usize> CellGrid<D> {
         Ok(())
     }
 
+    /// The error of particle `index`, outside the domain.
+    fn outside(&self, index: usize, position: &[Vector<D>]) -> SearchError {
+        SearchError::OutsideDomain {
+            index,
+            position: position[index].iter().copied().collect(),
+            min: self.domain.min.iter().copied().collect(),
+            max: self.domain.max.iter().copied().collect(),
+        }
+    }
+
     /// Empties the grid: no particles, buffers kept.
     fn clear(&mut self) {
         self.cell_of.clear();
         self.particle_index.clear();
         self.cell_start.fill(0);
+        if let Some((cells, _)) = &mut self.hashed {
+            cells.clear();
+        }
+    }
+
+    /// The range in [`CellGrid::particle_index`] of the particles in the consecutive linear
+    /// cells `lo..=hi`.
+    #[inline]
+    pub(crate) fn cells_range(&self, lo: usize, hi: usize) -> (usize, usize) {
+        match &self.hashed {
+            None => (
+                self.cell_start[lo] as usize,
+                self.cell_start[hi + 1] as usize,
+            ),
+            Some((cells, _)) => cells.range(lo, hi),
+        }
+    }
+
+    /// Whether the index is hashed ([`CellGrid::hashed`]).
+    pub fn is_hashed(&self) -> bool {
+        self.hashed.is_some()
+    }
+
+    /// Cells that hold particles in a hashed grid (`None` for a dense one).
+    pub fn occupied_cells(&self) -> Option<usize> {
+        self.hashed.as_ref().map(|(cells, _)| cells.occupied())
     }
 
     /// The search radius.
@@ -303,9 +398,9 @@ impl<const D: usize> CellGrid<D> {
         &self.domain
     }
 
-    /// Total number of cells.
+    /// Total number of cells (occupied or not).
     pub fn cell_count(&self) -> usize {
-        self.cell_start.len() - 1
+        self.map.counts.iter().product()
     }
 
     /// Number of cells along each axis.
@@ -324,7 +419,8 @@ impl<const D: usize> CellGrid<D> {
     }
 
     /// Offsets into [`CellGrid::particle_index`]: cell `c` holds
-    /// `particle_index()[cell_start()[c]..cell_start()[c + 1]]`; `cell_count() + 1` entries.
+    /// `particle_index()[cell_start()[c]..cell_start()[c + 1]]`; `cell_count() + 1` entries
+    /// in a dense grid, one (0) in a hashed grid ([`CellGrid::cell_particles`] serves both).
     pub fn cell_start(&self) -> &[u32] {
         &self.cell_start
     }
@@ -334,15 +430,16 @@ impl<const D: usize> CellGrid<D> {
         &self.particle_index
     }
 
-    /// Linear cell index (x fastest) of each built particle.
+    /// Linear cell index (x fastest) of each built particle; in a hashed grid the rank of its
+    /// cell among the occupied ones, in ascending linear order.
     pub fn cell_of(&self) -> &[u32] {
         &self.cell_of
     }
 
     /// The built particles in cell `cell` (linear index), in ascending order.
     pub fn cell_particles(&self, cell: usize) -> &[u32] {
-        let range = self.cell_start[cell] as usize..self.cell_start[cell + 1] as usize;
-        &self.particle_index[range]
+        let (start, end) = self.cells_range(cell, cell);
+        &self.particle_index[start..end]
     }
 }
 

@@ -7,7 +7,9 @@
 //!
 //! Modules:
 //! - [`grid`]: [`CellGrid`], its construction over a [`Domain`](geosph_core::Domain) and the
-//!   counting sort of particles into cells ([`CellGrid::build`]).
+//!   counting sort of particles into cells ([`CellGrid::build`]); with
+//!   [`CellGrid::hashed`], an index of the occupied cells only (`hashed.rs`), for unbounded
+//!   or very sparse domains.
 //! - [`query`]: [`CellGrid::neighbour_list`] (CSR lists for self and cross queries) and
 //!   [`CellGrid::for_each_neighbour`].
 //! - [`morton`]: Morton (Z-order) codes and [`CellGrid::z_order`], the permutation that makes
@@ -31,12 +33,13 @@
 
 pub mod error;
 pub mod grid;
+mod hashed;
 pub mod morton;
 pub mod query;
 mod scratch;
 
 pub use error::SearchError;
-pub use grid::CellGrid;
+pub use grid::{CellGrid, CellIndex};
 pub use morton::{morton_encode, morton_encode_2d, morton_encode_3d};
 
 /// The rayon this crate runs on, re-exported so that callers can pick the number of threads

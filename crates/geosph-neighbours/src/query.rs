@@ -159,8 +159,7 @@ impl<const D: usize> CellGrid<D> {
                     a += usize::from(row_g2 + x_gap2[0] > radius2);
                     b -= usize::from(last > 0 && row_g2 + x_gap2[last] > radius2);
                 }
-                let start = self.cell_start[row + a] as usize;
-                let end = self.cell_start[row + b + 1] as usize;
+                let (start, end) = self.cells_range(row + a, row + b);
                 if start < end {
                     f(&self.particle_index[start..end], image);
                 }

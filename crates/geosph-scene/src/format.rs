@@ -195,6 +195,31 @@ pub struct DomainSpec {
     /// Periodic axes (default none).
     #[serde(default)]
     pub periodic: Vec<bool>,
+    /// How the neighbour search indexes the domain's cells: `Dense` (default: one entry per
+    /// cell, the fastest when the particles fill the domain) or `Hashed` (the occupied cells
+    /// only: for very large or sparse domains, e.g. a spray in a valley; the same results).
+    #[serde(default)]
+    pub cells: CellIndexSpec,
+}
+
+/// The scene's name of a [`geosph_sph::CellIndex`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CellIndexSpec {
+    /// [`geosph_sph::CellIndex::Dense`].
+    #[default]
+    Dense,
+    /// [`geosph_sph::CellIndex::Hashed`].
+    Hashed,
+}
+
+impl CellIndexSpec {
+    /// The search's index.
+    pub fn index(self) -> geosph_sph::CellIndex {
+        match self {
+            Self::Dense => geosph_sph::CellIndex::Dense,
+            Self::Hashed => geosph_sph::CellIndex::Hashed,
+        }
+    }
 }
 
 /// A region of space filled with particles on the lattice of spacing dx.

@@ -41,6 +41,8 @@ pub struct Setup<const D: usize> {
     pub fluid_height: Real,
     /// Particle spacing dx.
     pub spacing: Real,
+    /// How the neighbour search indexes the cells (`domain.cells`).
+    pub cell_index: geosph_sph::CellIndex,
     /// How each fluid block was filled.
     pub blocks: Vec<BlockReport>,
     /// The surfaces of the scene's load gauges (`output.loads`), in their order.
@@ -63,6 +65,7 @@ impl<const D: usize> Setup<D> {
             gravity: self.gravity,
             walls: self.walls,
             spacing: self.spacing,
+            cell_index: self.cell_index,
         };
         (self.fluid, solver_inputs)
     }
@@ -423,6 +426,10 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         gravity,
         fluid_height,
         spacing: dx,
+        cell_index: scene
+            .domain
+            .as_ref()
+            .map_or(Default::default(), |domain| domain.cells.index()),
         blocks,
         loads: {
             loads.sort_by_key(|(k, _)| *k);

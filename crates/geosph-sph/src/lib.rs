@@ -47,6 +47,8 @@ pub use config_error::ConfigError;
 pub use density_error::{compression, density_errors};
 pub use distributed::{Distribution, ExchangeCounts};
 pub use eos::{EosKind, EquationOfState};
+/// How the pair lists' grids index their cells (dense or hashed), as [`SphSetup`] names it.
+pub use geosph_neighbours::CellIndex;
 /// The transport of a distributed run (MPI in `geosph-mpi`), as [`Solver::distribute`] takes it.
 pub use geosph_partition::Transport;
 pub use lists::{Neighbour, PairLists};

@@ -8,12 +8,13 @@
 
 use geosph_core::{Domain, NeighbourList, Particles, Permutation, Real, Vector};
 use geosph_kernels::Kernel;
-use geosph_neighbours::{CellGrid, SearchError};
+use geosph_neighbours::{CellGrid, CellIndex, SearchError};
 use rayon::prelude::*;
 
 use crate::distributed::Distribution;
 
 mod distribute;
+mod index;
 
 /// One neighbour j of particle i inside the kernel support, as a pair term needs it.
 #[derive(Clone, Copy, Debug)]
@@ -80,9 +81,18 @@ impl<const D: usize> PairLists<D> {
         let radius = support_radius + skin;
         // A particle that leaves the domain keeps its pairs until the runner removes it
         // after the step it left in.
-        let mut grid = CellGrid::new(domain.clone(), radius)?;
+        // A domain of more cells than a dense index holds gets a hashed one, which
+        // `use_cell_index` may change.
+        let mut grid = match CellGrid::new(domain.clone(), radius) {
+            Err(SearchError::TooManyCells { .. }) => CellGrid::hashed(domain.clone(), radius)?,
+            grid => grid?,
+        };
         grid.bin_outside_in_edge_cells();
-        let mut wall_grid = CellGrid::new(domain.clone(), radius)?;
+        let index = match grid.is_hashed() {
+            true => CellIndex::Hashed,
+            false => CellIndex::Dense,
+        };
+        let mut wall_grid = CellGrid::with_index(domain.clone(), radius, index)?;
         wall_grid.build(wall_position)?;
         Ok(Self {
             domain,

@@ -3,6 +3,7 @@
 use geosph_boundary::WallParticles;
 use geosph_core::{Domain, Real, Vector};
 use geosph_kernels::KernelKind;
+use geosph_neighbours::CellIndex;
 
 use crate::eos::EosKind;
 
@@ -26,6 +27,8 @@ pub struct SphSetup<const D: usize> {
     pub walls: WallParticles<D>,
     /// Particle spacing dx.
     pub spacing: Real,
+    /// How the pair lists' grids index their cells (the scene's `domain.cells`).
+    pub cell_index: CellIndex,
 }
 
 /// How a solver's particles start, decided by its configuration (`particle_start` of each

@@ -90,6 +90,7 @@ fn soil_solver<const D: usize, K: Kernel<D>>(
         ArtificialStressGray2001::new(&kernel, stress.epsilon, stress.exponent, spacing)
     });
     particles.enable_soil();
+    let cell_index = setup.cell_index;
     let mut system = SoilSystem::new(
         kernel,
         setup,
@@ -100,6 +101,9 @@ fn soil_solver<const D: usize, K: Kernel<D>>(
         spacing,
         config.neighbour_skin,
     )?;
+    system
+        .lists
+        .use_cell_index(cell_index, &system.walls.position)?;
     system.set_velocity_gradient_correction(config.velocity_gradient_correction);
     system.set_mean_stress_diffusion(config.stress_diffusion.map(|diffusion| {
         MeanStressDiffusion::new(
