@@ -716,7 +716,7 @@ fn a_hashed_grid_searches_a_domain_too_large_for_a_dense_one() {
 
 /// A scene's `domain.cells: Hashed` runs every solver family as the dense index does,
 /// bitwise (a column collapsing in a tank, WCSPH, DFSPH and the soil, 0.1 s); and a drop
-/// falling in a domain 3 km × 3 km (1.3 × 10¹⁰ cells at dx = 1 cm: refused by the dense index,
+/// falling in a domain 3 km × 3 km (1.1 × 10¹⁰ cells at dx = 1 cm: refused by the dense index,
 /// naming the cell counts) runs with the hashed one.
 #[test]
 fn hashed_cells_in_a_scene_run_as_the_dense_ones() {

@@ -185,7 +185,8 @@ impl<const D: usize> RigidBodies<D> {
             });
         }
         let radius = coupling.kernel.support_factor() * coupling.smoothing_length;
-        let mut grid = CellGrid::new(coupling.domain.clone(), radius)
+        // Hashed when the domain has more cells than a dense index holds, as the flow's lists.
+        let mut grid = CellGrid::fitting(coupling.domain.clone(), radius)
             .expect("the run's domain holds a grid of the kernel's support");
         // A particle that left the domain in this step still pushes on a body; the runner
         // removes it after the step.

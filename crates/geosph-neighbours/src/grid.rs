@@ -159,6 +159,15 @@ impl<const D: usize> CellGrid<D> {
         Self::with_index(domain, radius, CellIndex::Hashed)
     }
 
+    /// An empty grid with a dense index ([`CellGrid::new`]), or a hashed one
+    /// ([`CellGrid::hashed`]) when the domain has more cells than a dense index holds.
+    pub fn fitting(domain: Domain<D>, radius: Real) -> Result<Self, SearchError> {
+        match Self::new(domain.clone(), radius) {
+            Err(SearchError::TooManyCells { .. }) => Self::hashed(domain, radius),
+            grid => grid,
+        }
+    }
+
     /// An empty grid with the cell index `index`: [`CellGrid::new`] or [`CellGrid::hashed`].
     pub fn with_index(
         domain: Domain<D>,

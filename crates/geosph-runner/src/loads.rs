@@ -51,8 +51,9 @@ impl<const D: usize> WallLoads<D> {
             }
         }
         let radius = kernel.support_factor() * smoothing_length;
-        let grid = (!surfaces.is_empty())
-            .then(|| CellGrid::new(domain.clone(), radius).expect("the run's domain holds a grid"));
+        let grid = (!surfaces.is_empty()).then(|| {
+            CellGrid::fitting(domain.clone(), radius).expect("the run's domain holds a grid")
+        });
         Self {
             surfaces,
             columns,

@@ -83,10 +83,7 @@ impl<const D: usize> PairLists<D> {
         // after the step it left in.
         // A domain of more cells than a dense index holds gets a hashed one, which
         // `use_cell_index` may change.
-        let mut grid = match CellGrid::new(domain.clone(), radius) {
-            Err(SearchError::TooManyCells { .. }) => CellGrid::hashed(domain.clone(), radius)?,
-            grid => grid?,
-        };
+        let mut grid = CellGrid::fitting(domain.clone(), radius)?;
         grid.bin_outside_in_edge_cells();
         let index = match grid.is_hashed() {
             true => CellIndex::Hashed,
