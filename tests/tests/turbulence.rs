@@ -12,9 +12,9 @@
 //!
 //! The isotropic part −⅔ C_I Δ² |S|² is a pressure that varies across the channel only and
 //! is held by the fluid's pressure; it does not move the flow. With Δ = dx = L/20 and
-//! C_s = 2 (not the 0.12 of a turbulent flow: a coefficient that makes ν_t as large as ν at
-//! the walls, ℓ²FL/(2ν²) = 1, so that the check sees the model; the channel is laminar, at
-//! Re = 25 on the laminar centreline), the eddy viscosity slows the centreline to
+//! C_s = 2 (not the 0.12 of a turbulent flow: a coefficient that makes ν_t comparable with ν
+//! at the walls, 0.62 ν from ℓ²FL/(2ν²) = 1, so that the check sees the model; the channel
+//! is laminar, at Re = 25 on the laminar centreline), the eddy viscosity slows the centreline to
 //! 0.0174 m/s from the laminar 0.025 m/s. The profile must lie within 1 % of the centreline
 //! speed of the closed form, the bar of the laminar channel at the same resolution
 //! (`apps/geosph-bench/tests/laminar.rs`). At Re = 100 (C_s = 1) the same channel, with SPS

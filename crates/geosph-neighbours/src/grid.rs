@@ -202,10 +202,12 @@ impl<const D: usize> CellGrid<D> {
                 inv_size[k] = 1.0 / min_edge;
             }
         }
-        let morton_limit = if 64 / D >= usize::BITS as usize {
-            usize::MAX
-        } else {
-            1usize << (64 / D)
+        // Morton codes take u32 coordinates of 64/D bits, and no cell may have the code
+        // u64::MAX that marks a particle outside (in 2D the last cell of 2^32 per axis would).
+        let morton_limit: usize = match D {
+            1 => 1 << 32,
+            2 => (1 << 32) - 1,
+            _ => 1 << 21,
         };
         let limit = if hashed { usize::MAX } else { MAX_CELLS };
         let total = counts

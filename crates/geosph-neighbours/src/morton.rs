@@ -88,7 +88,8 @@ impl<const D: usize> CellGrid<D> {
             });
         }
         let map = self.map;
-        // No cell has the code u64::MAX: at most 2^32 − 1 cells in all, 2^21 per axis in 3D.
+        // No cell has the code u64::MAX: per axis at most 2^32 cells in 1D, 2^32 − 1 in 2D
+        // and 2^21 in 3D (`CellGrid::with_index`).
         let keyed: Vec<(u64, u32)> = position
             .par_iter()
             .enumerate()

@@ -463,8 +463,19 @@ impl<const D: usize> Distribution<D> {
     /// If `values` holds fewer than the owned particles, or the other ranks' halo plans
     /// changed without a set-up here.
     pub fn refresh_values(&self, values: &mut [Real]) {
-        let (own, halo) = values.split_at_mut(self.owned);
-        let received = self.receive_halo(halo.len(), 1, &mut |i, record| record.push(own[i]));
+        self.refresh_records(values, 1);
+    }
+
+    /// [`Distribution::refresh_values`] for records of `width` values per particle (`values`
+    /// holds the particles' records one after another): for a tensor per particle.
+    ///
+    /// # Panics
+    /// As [`Distribution::refresh_values`].
+    pub fn refresh_records(&self, values: &mut [Real], width: usize) {
+        let (own, halo) = values.split_at_mut(self.owned * width);
+        let received = self.receive_halo(halo.len() / width, width, &mut |i, record| {
+            record.extend_from_slice(&own[i * width..(i + 1) * width]);
+        });
         halo.copy_from_slice(&received);
     }
 }

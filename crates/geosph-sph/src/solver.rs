@@ -221,7 +221,9 @@ pub trait Solver<const D: usize>: Send {
     ) -> Result<(), SolverError>;
 
     /// Everything the next step depends on besides the particles (step count, cached rates,
-    /// neighbour-list positions, warm-start data), for a checkpoint.
+    /// neighbour-list positions, warm-start data), for a checkpoint. In a distributed run
+    /// every rank calls it at the same step, and it may combine values over the ranks (WCSPH's
+    /// largest eddy viscosity): a caller makes no rank skip it.
     fn save_state(&self) -> SolverState;
 
     /// Continues from `state`, saved by [`Solver::save_state`] of a solver built from the

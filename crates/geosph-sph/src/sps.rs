@@ -69,6 +69,8 @@ pub struct SubParticleStress<const D: usize> {
     pub spacing: Real,
     /// c τ_i/ρ_i² of every particle, c the lattice gradient correction.
     stress_over_rho2: Vec<Matrix<D>>,
+    /// The halo's stresses as they travel between ranks (scratch of a distributed run).
+    records: Vec<Real>,
     /// The largest ν_t of the particles this rank owned at the last update.
     max_eddy_viscosity: Real,
 }
@@ -80,6 +82,7 @@ impl<const D: usize> SubParticleStress<D> {
             config,
             spacing,
             stress_over_rho2: Vec::new(),
+            records: Vec::new(),
             max_eddy_viscosity: 0.0,
         }
     }
@@ -99,7 +102,8 @@ impl<const D: usize> SubParticleStress<D> {
 
     /// The stress of every particle from its velocity gradient over the fluid and wall
     /// neighbours of `lists`; `correction` is the lattice gradient correction c. The largest
-    /// ν_t is taken over the particles the rank owns (the first [`PairLists::owned`]).
+    /// ν_t is taken over the particles the rank owns (the first [`PairLists::owned`]); in a
+    /// distributed run the halo's stresses are then refreshed from their owners (collective).
     #[allow(clippy::too_many_arguments)]
     pub fn update<K: Kernel<D>>(
         &mut self,
@@ -137,6 +141,25 @@ impl<const D: usize> SubParticleStress<D> {
                 if i < owned { nu } else { 0.0 }
             })
             .reduce(|| 0.0, Real::max);
+        if lists.distribution().is_some() {
+            self.refresh_halo(lists);
+        }
+    }
+
+    /// The halo's stresses from their owners: a halo particle's gradient reads the walls'
+    /// ũ_w, which a rank extrapolates from its own particles only, so next to a wall the
+    /// halo's own result is not the owner's (docs/turbulence.md).
+    fn refresh_halo(&mut self, lists: &PairLists<D>) {
+        let width = D * D;
+        self.records.clear();
+        for stress in &self.stress_over_rho2 {
+            self.records.extend_from_slice(stress.as_slice());
+        }
+        lists.exchange_halo_records(&mut self.records, width);
+        let owned = lists.owned(self.stress_over_rho2.len());
+        for (i, stress) in self.stress_over_rho2.iter_mut().enumerate().skip(owned) {
+            stress.copy_from_slice(&self.records[i * width..(i + 1) * width]);
+        }
     }
 
     /// The largest eddy viscosity ν_t of the particles this rank owned at the last

@@ -101,6 +101,9 @@ impl<const D: usize> super::RunLoop<'_, D> {
         let path = dir.join(piece_file(steps, rank));
         let mut owned = self.fluid.clone();
         owned.resize(self.owned());
+        // Before any I/O that may fail on one rank: a solver's state may combine values over
+        // the ranks (`Solver::save_state`).
+        let solver = self.solver.save_state();
         let written = std::fs::create_dir_all(path.parent().unwrap_or(dir))
             .map_err(|source| CheckpointError::Io {
                 path: path.clone(),
@@ -110,7 +113,6 @@ impl<const D: usize> super::RunLoop<'_, D> {
                 },
             })
             .and_then(|()| {
-                let solver = self.solver.save_state();
                 self.checkpoint(ParticleState::save(&owned), solver)
                     .write(&path)
             });

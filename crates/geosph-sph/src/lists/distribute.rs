@@ -183,8 +183,14 @@ impl<const D: usize> PairLists<D> {
     /// Overwrites the halo's entries of `values` (one per particle of the set, owned and
     /// halo) with the owners' ([`Distribution::refresh_values`]; nothing on one process).
     pub fn exchange_halo_values(&self, values: &mut [Real]) {
+        self.exchange_halo_records(values, 1);
+    }
+
+    /// [`PairLists::exchange_halo_values`] for `width` values per particle, one particle's
+    /// after another ([`Distribution::refresh_records`]).
+    pub fn exchange_halo_records(&self, values: &mut [Real], width: usize) {
         if let Some(distribution) = &self.distribution {
-            distribution.refresh_values(values);
+            distribution.refresh_records(values, width);
         }
     }
 
