@@ -321,20 +321,36 @@ fn a_distributed_blow_up_is_reported_once_with_its_files() {
         .replace("cfl: 0.25,", "cfl: 0.25, sound_speed: Some(1.0),");
     let scene_file = out.join("blow-up.ron");
     std::fs::write(&scene_file, scene).unwrap();
-    let args = [
+    assert_blow_up_on_two_ranks(
+        &scene_file,
+        &out,
+        &["--dx", "0.05", "--quiet"],
+        "error: blow-up at",
+        &["blowup.txt", "blowup.vtu"],
+    );
+}
+
+/// Runs `scene` on 2 ranks into `out` with `args` and checks that the job ends with the
+/// blow-up status, prints `message` once and writes `files` (rank 0's report).
+fn assert_blow_up_on_two_ranks(
+    scene: &Path,
+    out: &Path,
+    args: &[&str],
+    message: &str,
+    files: &[&str],
+) {
+    let mut all = vec![
         "--scene",
-        scene_file.to_str().unwrap(),
-        "--dx",
-        "0.05",
-        "--quiet",
+        scene.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
     ];
-    let output = mpiexec(2, APP, &args, TIMEOUT).expect("mpiexec on the PATH");
+    all.extend_from_slice(args);
+    let output = mpiexec(2, APP, &all, TIMEOUT).expect("mpiexec on the PATH");
     let text = text(&output);
     assert_eq!(output.status.code(), Some(3), "{text}");
-    assert_eq!(text.matches("error: blow-up at").count(), 1, "{text}");
-    for file in ["blowup.txt", "blowup.vtu"] {
+    assert_eq!(text.matches(message).count(), 1, "{text}");
+    for file in files {
         assert!(out.join(file).is_file(), "{file}: {text}");
     }
 }
@@ -499,22 +515,11 @@ fn a_particle_leaving_the_domain_leaves_a_distributed_run() {
     }
     let scene_file = out.join("too-many.ron");
     std::fs::write(&scene_file, scene("Wcsph(()) too many")).unwrap();
-    let folder = out.join("too-many-2");
-    let args = [
-        "--scene",
-        scene_file.to_str().unwrap(),
-        "--no-vtk",
-        "--out",
-        folder.to_str().unwrap(),
-    ];
-    let output = mpiexec(2, APP, &args, TIMEOUT).expect("mpiexec on the PATH");
-    let text = text(&output);
-    assert_eq!(output.status.code(), Some(3), "{text}");
-    assert_eq!(
-        text.matches("1 of 101 particles (0.99 %) would have left the domain")
-            .count(),
-        1,
-        "{text}"
+    assert_blow_up_on_two_ranks(
+        &scene_file,
+        &out.join("too-many-2"),
+        &["--no-vtk"],
+        "1 of 101 particles (0.99 %) would have left the domain",
+        &["blowup.txt"],
     );
-    assert!(folder.join("blowup.txt").is_file(), "{text}");
 }

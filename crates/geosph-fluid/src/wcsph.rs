@@ -271,7 +271,6 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
         );
 
         if let Some(sps) = &mut self.sps {
-            let walls = &self.walls;
             sps.update(
                 &self.kernel,
                 &self.lists,
@@ -279,7 +278,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
                 &fluid.velocity,
                 &self.volume,
                 &fluid.density,
-                walls,
+                &self.walls,
                 self.gradient_correction,
             );
         }

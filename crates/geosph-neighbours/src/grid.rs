@@ -389,9 +389,12 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
-    /// Whether the index is hashed ([`CellGrid::hashed`]).
-    pub fn is_hashed(&self) -> bool {
-        self.hashed.is_some()
+    /// How the grid indexes its cells.
+    pub fn index(&self) -> CellIndex {
+        match self.hashed {
+            Some(_) => CellIndex::Hashed,
+            None => CellIndex::Dense,
+        }
     }
 
     /// Cells that hold particles in a hashed grid (`None` for a dense one).

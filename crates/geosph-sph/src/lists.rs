@@ -8,7 +8,7 @@
 
 use geosph_core::{Domain, NeighbourList, Particles, Permutation, Real, Vector};
 use geosph_kernels::Kernel;
-use geosph_neighbours::{CellGrid, CellIndex, SearchError};
+use geosph_neighbours::{CellGrid, SearchError};
 use rayon::prelude::*;
 
 use crate::distributed::Distribution;
@@ -85,11 +85,7 @@ impl<const D: usize> PairLists<D> {
         // `use_cell_index` may change.
         let mut grid = CellGrid::fitting(domain.clone(), radius)?;
         grid.bin_outside_in_edge_cells();
-        let index = match grid.is_hashed() {
-            true => CellIndex::Hashed,
-            false => CellIndex::Dense,
-        };
-        let mut wall_grid = CellGrid::with_index(domain.clone(), radius, index)?;
+        let mut wall_grid = CellGrid::with_index(domain.clone(), radius, grid.index())?;
         wall_grid.build(wall_position)?;
         Ok(Self {
             domain,

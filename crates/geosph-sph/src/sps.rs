@@ -58,6 +58,23 @@ impl SpsConfig {
         in_range(&format!("{field}.smagorinsky"), self.smagorinsky, 0.0, 2.0)?;
         in_range(&format!("{field}.isotropic"), self.isotropic, 0.0, 0.1)
     }
+
+    /// τ/ρ and ν_t of the velocity gradient `gradient` (∂v_a/∂x_b in row a, column b) with
+    /// the filter width `width` Δ.
+    pub fn stress_per_density<const D: usize>(
+        &self,
+        width: Real,
+        gradient: &Matrix<D>,
+    ) -> (Matrix<D>, Real) {
+        let strain = (gradient + gradient.transpose()) * 0.5;
+        let magnitude2 = 2.0 * strain.norm_squared();
+        let width2 = width * width;
+        let eddy_viscosity = self.smagorinsky * self.smagorinsky * width2 * magnitude2.sqrt();
+        let isotropic = -2.0 / 3.0 * self.isotropic * width2 * magnitude2
+            - 2.0 / 3.0 * eddy_viscosity * strain.trace();
+        let stress = strain * (2.0 * eddy_viscosity) + Matrix::<D>::identity() * isotropic;
+        (stress, eddy_viscosity)
+    }
 }
 
 /// The SPS stress of every particle, computed once per rate evaluation.
@@ -87,19 +104,6 @@ impl<const D: usize> SubParticleStress<D> {
         }
     }
 
-    /// τ/ρ and ν_t of the velocity gradient `gradient` (∂v_a/∂x_b in row a, column b).
-    pub fn stress_per_density(&self, gradient: &Matrix<D>) -> (Matrix<D>, Real) {
-        let strain = (gradient + gradient.transpose()) * 0.5;
-        let magnitude2 = 2.0 * strain.norm_squared();
-        let width2 = self.spacing * self.spacing;
-        let smagorinsky = self.config.smagorinsky;
-        let eddy_viscosity = smagorinsky * smagorinsky * width2 * magnitude2.sqrt();
-        let isotropic = -2.0 / 3.0 * self.config.isotropic * width2 * magnitude2
-            - 2.0 / 3.0 * eddy_viscosity * strain.trace();
-        let stress = strain * (2.0 * eddy_viscosity) + Matrix::<D>::identity() * isotropic;
-        (stress, eddy_viscosity)
-    }
-
     /// The stress of every particle from its velocity gradient over the fluid and wall
     /// neighbours of `lists`; `correction` is the lattice gradient correction c. The largest
     /// ν_t is taken over the particles the rank owns (the first [`PairLists::owned`]); in a
@@ -118,7 +122,7 @@ impl<const D: usize> SubParticleStress<D> {
     ) {
         let n = position.len();
         self.stress_over_rho2.resize(n, Matrix::zeros());
-        let model = Self::new(self.config, self.spacing);
+        let (config, spacing) = (self.config, self.spacing);
         let owned = lists.owned(n);
         self.max_eddy_viscosity = self
             .stress_over_rho2
@@ -136,7 +140,7 @@ impl<const D: usize> SubParticleStress<D> {
                     let weighted = pair.grad * walls.volume[w];
                     gradient += (walls.viscous_velocity[w] - v_i) * weighted.transpose();
                 });
-                let (stress, nu) = model.stress_per_density(&(gradient * correction));
+                let (stress, nu) = config.stress_per_density(spacing, &(gradient * correction));
                 *stress_i = stress * (correction / density[i]);
                 if i < owned { nu } else { 0.0 }
             })
@@ -241,10 +245,10 @@ mod tests {
     /// the isotropic part −⅔ C_I Δ² γ² on the diagonal (no trace: the flow is isochoric).
     #[test]
     fn simple_shear_gives_the_smagorinsky_stress() {
-        let model = SubParticleStress::<2>::new(SpsConfig::default(), 0.01);
+        let model = SpsConfig::default();
         let gamma = 3.0;
         let gradient = Matrix::<2>::new(0.0, gamma, 0.0, 0.0);
-        let (stress, nu) = model.stress_per_density(&gradient);
+        let (stress, nu) = model.stress_per_density(0.01, &gradient);
         let expected_nu = (0.12 * 0.01_f64).powi(2) * gamma;
         approx::assert_relative_eq!(nu, expected_nu, max_relative = 1e-14);
         approx::assert_relative_eq!(stress[(0, 1)], expected_nu * gamma, max_relative = 1e-14);
@@ -257,10 +261,10 @@ mod tests {
     /// A rigid rotation strains nothing: no stress, no eddy viscosity.
     #[test]
     fn a_rigid_rotation_has_no_sub_particle_stress() {
-        let model = SubParticleStress::<3>::new(SpsConfig::default(), 0.02);
+        let model = SpsConfig::default();
         let omega = Vector::<3>::new(0.3, -1.0, 2.0);
         let gradient = omega.cross_matrix();
-        let (stress, nu) = model.stress_per_density(&gradient);
+        let (stress, nu) = model.stress_per_density(0.02, &gradient);
         assert_eq!(nu, 0.0);
         assert_eq!(stress, Matrix::<3>::zeros());
     }
@@ -269,8 +273,8 @@ mod tests {
     /// only the isotropic part remains: −⅔ C_I Δ² |S|² on the diagonal.
     #[test]
     fn a_uniform_expansion_has_only_the_isotropic_part() {
-        let model = SubParticleStress::<3>::new(SpsConfig::default(), 0.02);
-        let (stress, nu) = model.stress_per_density(&(Matrix::<3>::identity() * 0.5));
+        let model = SpsConfig::default();
+        let (stress, nu) = model.stress_per_density(0.02, &(Matrix::<3>::identity() * 0.5));
         approx::assert_relative_eq!(nu, 0.0144 * 4e-4 * (1.5_f64).sqrt(), max_relative = 1e-14);
         let expected = -2.0 / 3.0 * 0.0066 * 4e-4 * 1.5;
         for a in 0..3 {

@@ -6,9 +6,10 @@ use geosph_neighbours::{CellGrid, CellIndex, SearchError};
 use super::PairLists;
 
 impl<const D: usize> PairLists<D> {
-    /// Indexes the cells of the particles' and the walls' grids with `index` (the lists start
-    /// with a dense index, or a hashed one when the domain has more cells than a dense one
-    /// holds, which a dense `index` then refuses; the lists are
+    /// Indexes the cells of the particles' and the walls' grids with `index` (nothing to do
+    /// when they already do; the lists start with a dense index, or a hashed one when the
+    /// domain has more cells than a dense one holds, which a dense `index` then refuses; the
+    /// lists are
     /// made anew at the next update, and are those of the other index, bitwise); the walls
     /// at `wall_position` are binned again. For the sparse or unbounded domains a dense
     /// index cannot hold ([`CellGrid::hashed`]).
@@ -17,7 +18,7 @@ impl<const D: usize> PairLists<D> {
         index: CellIndex,
         wall_position: &[Vector<D>],
     ) -> Result<(), SearchError> {
-        if index == CellIndex::Dense && !self.grid.is_hashed() {
+        if index == self.grid.index() {
             return Ok(());
         }
         let radius = self.grid.radius();
