@@ -1,5 +1,8 @@
-//! Shared set-ups for the geosph validation tests: particle lattices and random point sets.
+//! Shared set-ups for the geosph validation tests: particle lattices and random point sets,
+//! and the shock tube ([`shock_tube`]).
 #![warn(missing_docs)]
+
+pub mod shock_tube;
 
 use geosph_core::{Real, Vector};
 use rand::{Rng, SeedableRng, rngs::StdRng};

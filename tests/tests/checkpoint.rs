@@ -212,6 +212,20 @@ fn a_restarted_dam_break_with_sps_matches_the_uninterrupted_run_bitwise() {
     assert_restart_is_bitwise(&scene, "wcsph-sps", || NoObserver, 0.12);
 }
 
+/// A gas: the particles' internal energy and its cached rate are in the checkpoint, and the
+/// frames carry the energy.
+#[test]
+fn a_restarted_shock_tube_matches_the_uninterrupted_run_bitwise() {
+    let mut scene = geosph_tests::shock_tube::scene(0.01);
+    scene.end_time = 0.1;
+    scene.output.interval = 0.025;
+    scene.output.sample_interval = 0.005;
+    scene.output.vtk = true;
+    let whole = assert_restart_is_bitwise(&scene, "sod", || NoObserver, 0.04);
+    let frame = std::fs::read_to_string(whole.join("frames/sod-shock-tube_000001.vtu"));
+    assert!(frame.is_ok_and(|text| text.contains("internal_energy")));
+}
+
 #[test]
 fn a_restarted_wcsph_dam_break_matches_the_uninterrupted_run_bitwise() {
     let scene = coarse_dam_break("wcsph");

@@ -9,6 +9,7 @@ mod determinism;
 mod earth_pressure;
 mod escape;
 mod factor_of_safety;
+mod gas;
 mod geometry;
 mod hostile_scenes;
 mod incompressible;

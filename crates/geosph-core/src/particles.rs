@@ -102,6 +102,9 @@ pub struct Particles<const D: usize> {
     pub id: Vec<u32>,
     /// Pressure p, for fluid solvers.
     pub pressure: Option<Vec<Real>>,
+    /// Specific internal energy e in J/kg, for a gas (a fluid whose pressure depends on its
+    /// energy as well as its density).
+    pub energy: Option<Vec<Real>>,
     /// Stress, strain and plastic strain, for soil models.
     pub soil: Option<SoilFields>,
     /// Kernel-gradient correction matrices L_i (CSPM), when a correction is switched on.
@@ -117,6 +120,7 @@ impl<const D: usize> Clone for Particles<D> {
             density: self.density.clone(),
             id: self.id.clone(),
             pressure: self.pressure.clone(),
+            energy: self.energy.clone(),
             soil: self.soil.clone(),
             gradient_correction: self.gradient_correction.clone(),
         }
@@ -131,6 +135,7 @@ impl<const D: usize> Clone for Particles<D> {
         self.density.clone_from(&source.density);
         self.id.clone_from(&source.id);
         self.pressure.clone_from(&source.pressure);
+        self.energy.clone_from(&source.energy);
         self.soil.clone_from(&source.soil);
         self.gradient_correction
             .clone_from(&source.gradient_correction);
@@ -148,6 +153,7 @@ impl<const D: usize> Particles<D> {
             id: (0..n as u32).collect(),
             position,
             pressure: None,
+            energy: None,
             soil: None,
             gradient_correction: None,
         }
@@ -169,6 +175,12 @@ impl<const D: usize> Particles<D> {
     pub fn enable_pressure(&mut self) -> &mut Vec<Real> {
         let n = self.len();
         self.pressure.get_or_insert_with(|| vec![0.0; n])
+    }
+
+    /// Creates the internal-energy field (zero) if it does not exist yet and returns it.
+    pub fn enable_energy(&mut self) -> &mut Vec<Real> {
+        let n = self.len();
+        self.energy.get_or_insert_with(|| vec![0.0; n])
     }
 
     /// Creates the soil fields (zero stress and strain) if they do not exist yet.
@@ -197,6 +209,9 @@ impl<const D: usize> Particles<D> {
         if let Some(pressure) = &mut self.pressure {
             permutation.apply(pressure);
         }
+        if let Some(energy) = &mut self.energy {
+            permutation.apply(energy);
+        }
         if let Some(soil) = &mut self.soil {
             soil.permute(permutation);
         }
@@ -220,6 +235,9 @@ impl<const D: usize> Particles<D> {
         if let Some(pressure) = &mut self.pressure {
             retain(pressure, keep);
         }
+        if let Some(energy) = &mut self.energy {
+            retain(energy, keep);
+        }
         if let Some(soil) = &mut self.soil {
             soil.retain(keep);
         }
@@ -239,6 +257,7 @@ impl<const D: usize> Particles<D> {
             + bytes(&self.density)
             + bytes(&self.id);
         total += self.pressure.as_ref().map_or(0, bytes);
+        total += self.energy.as_ref().map_or(0, bytes);
         total += self.gradient_correction.as_ref().map_or(0, bytes);
         if let Some(soil) = &self.soil {
             total += bytes(&soil.stress)

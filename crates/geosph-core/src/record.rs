@@ -93,6 +93,7 @@ impl<const D: usize> Particles<D> {
     pub fn record_width(&self) -> usize {
         let mut width = 2 * D + 3;
         width += usize::from(self.pressure.is_some());
+        width += usize::from(self.energy.is_some());
         width += self.soil.as_ref().map_or(0, |_| 9 + 9 + 1 + 3);
         width += self.gradient_correction.as_ref().map_or(0, |_| D * D);
         width
@@ -109,6 +110,9 @@ impl<const D: usize> Particles<D> {
         );
         if let Some(pressure) = &self.pressure {
             record.push(pressure[i]);
+        }
+        if let Some(energy) = &self.energy {
+            record.push(energy[i]);
         }
         if let Some(soil) = &self.soil {
             push(record, soil.stress[i].as_slice());
@@ -137,6 +141,9 @@ impl<const D: usize> Particles<D> {
         if let Some(pressure) = &mut self.pressure {
             take(record, at, std::slice::from_mut(&mut pressure[i]));
         }
+        if let Some(energy) = &mut self.energy {
+            take(record, at, std::slice::from_mut(&mut energy[i]));
+        }
         if let Some(soil) = &mut self.soil {
             take(record, at, soil.stress[i].as_mut_slice());
             take(record, at, soil.strain[i].as_mut_slice());
@@ -162,6 +169,9 @@ impl<const D: usize> Particles<D> {
         self.id.resize(n, 0);
         if let Some(pressure) = &mut self.pressure {
             pressure.resize(n, 0.0);
+        }
+        if let Some(energy) = &mut self.energy {
+            energy.resize(n, 0.0);
         }
         if let Some(soil) = &mut self.soil {
             soil.stress.resize(n, Tensor3::zeros());

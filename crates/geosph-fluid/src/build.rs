@@ -8,10 +8,11 @@ use geosph_kernels::{Kernel, KernelVisitor};
 use geosph_neighbours::SearchError;
 use geosph_sph::eos::EquationOfState;
 use geosph_sph::lattice::{lattice_gradient_factor, lattice_kernel_sum};
-use geosph_sph::{Solver, SphSetup, SubParticleStress};
+use geosph_sph::{Solver, SphSetup, SubParticleStress, ViscousTerm};
 use geosph_time::Integrator;
 
 use crate::config::{DensityConfig, IncompressibleConfig, IncompressibleMethod, WcsphConfig};
+use crate::gas::GasDynamics;
 use crate::incompressible::{
     Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
 };
@@ -49,11 +50,16 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
         let config = self.config;
         let setup = self.setup;
         let (h, c0) = (kernel.smoothing_length(), setup.sound_speed);
+        // A gas's reference state (ρ₀, p₀) has c₀² = γ (p₀ + p∞)/ρ₀.
+        let background_pressure = match config.equation_of_state.gas_law() {
+            Some(law) => setup.rest_density * c0 * c0 / law.gamma - law.stiffness,
+            None => config.background_pressure,
+        };
         let eos = EquationOfState {
             kind: config.equation_of_state,
             rest_density: setup.rest_density,
             sound_speed: c0,
-            background_pressure: config.background_pressure,
+            background_pressure,
         };
         let wall_condition = DummyAdami2012 {
             gravity: setup.gravity,
@@ -62,15 +68,21 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
             clamp_negative: config.clamp_wall_pressure,
         };
         let cell_index = setup.cell_index;
-        let mut system = WcsphSystem::new(
-            kernel,
-            setup.domain,
-            eos,
-            config.viscosity.term(h, c0).calibrated(
+        // A gas has its own artificial viscosity, with the particles' sound speeds.
+        let gas = GasDynamics::of(config);
+        let viscosity = match gas {
+            Some(_) => ViscousTerm::Inviscid,
+            None => config.viscosity.term(h, c0).calibrated(
                 &kernel,
                 setup.spacing,
                 setup.spacing.powi(D as i32),
             ),
+        };
+        let mut system = WcsphSystem::new(
+            kernel,
+            setup.domain,
+            eos,
+            viscosity,
             config
                 .diffusion
                 .term(h, c0, setup.rest_density, setup.gravity),
@@ -85,6 +97,7 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
         system.gradient_correction =
             1.0 / lattice_gradient_factor(&kernel, setup.spacing, setup.spacing.powi(D as i32));
         system.xsph = config.xsph;
+        system.gas = gas;
         system.shifting = config.shifting;
         system.sps = config
             .sps

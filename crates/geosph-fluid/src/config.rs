@@ -149,7 +149,8 @@ pub enum DensityConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WcsphConfig {
-    /// Equation of state (default Tait, γ = 7).
+    /// Equation of state (default Tait, γ = 7); a gas (`IdealGas`, `StiffenedGas`) carries
+    /// its internal energy ([`crate::gas`]).
     pub equation_of_state: EosKind,
     /// Reference sound speed c₀ in m/s; `None`: 10 × the expected largest speed, max(√(2 g H),
     /// largest initial speed, largest wall speed).
@@ -222,6 +223,7 @@ impl WcsphConfig {
         if let EosKind::Tait { gamma } = self.equation_of_state {
             in_range("equation_of_state.gamma", gamma, 1.0, 10.0)?;
         }
+        crate::gas::validate(self)?;
         if let Some(c0) = self.sound_speed {
             positive("sound_speed", c0)?;
         }

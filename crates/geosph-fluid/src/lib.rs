@@ -6,6 +6,9 @@
 //!   Fourtakas et al. 2019, the default).
 //! - [`wcsph`]: the weakly compressible SPH system ([`WcsphSystem`]): symmetric momentum,
 //!   continuity or summation density, XSPH, Shepard re-initialisation, Adami walls.
+//! - [`gas`]: a gas in WCSPH, its energy equation and artificial viscosity with local sound
+//!   speeds ([`gas::GasDynamics`]).
+//! - [`riemann`]: the exact solution of a gas's Riemann problem, the shock tube's reference.
 //! - [`incompressible`]: PCISPH, IISPH and DFSPH on shared operators ([`incompressible::PressureSystem`]).
 //! - [`wcsph_solver`]: [`Wcsph`], the WCSPH system under an explicit integrator.
 //! - [`config`]: scene-level configuration ([`WcsphConfig`], [`IncompressibleConfig`]).
@@ -55,7 +58,9 @@
 pub mod build;
 pub mod config;
 pub mod diffusion;
+pub mod gas;
 pub mod incompressible;
+pub mod riemann;
 pub mod wcsph;
 pub mod wcsph_solver;
 
@@ -63,6 +68,6 @@ pub use build::{build_incompressible, build_wcsph};
 pub use config::{IncompressibleConfig, IncompressibleMethod, WcsphConfig};
 /// The equations of state, from the shared layer (`geosph_sph::eos`).
 pub use geosph_sph::eos;
-pub use geosph_sph::eos::{EosKind, EquationOfState};
+pub use geosph_sph::eos::{EosKind, EquationOfState, GasLaw};
 pub use wcsph::WcsphSystem;
 pub use wcsph_solver::Wcsph;

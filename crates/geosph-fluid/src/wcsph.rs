@@ -6,13 +6,15 @@ use geosph_core::{Particles, Real, Vector};
 use geosph_kernels::Kernel;
 use geosph_neighbours::SearchError;
 use geosph_sph::{
-    NoShift, NoSps, Pair, PairLists, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm,
+    Inviscid, NoShift, NoSps, Pair, PairLists, ParticleShifting, ShiftStep, ShiftSums, ShiftTerm,
     SubParticleStress, TurbulenceTerm, Viscosity, ViscousTerm, ViscousVisitor, max_speed,
 };
 use geosph_time::{ExplicitSystem, Rates};
+use rayon::iter::Either;
 use rayon::prelude::*;
 
-use crate::diffusion::{DensityDiffusion, DiffusionTerm, DiffusionVisitor};
+use crate::diffusion::{DensityDiffusion, DiffusionTerm, DiffusionVisitor, NoDiffusion};
+use crate::gas::{Barotropic, EnergyEquation, GasDynamics, GasViscosity};
 use geosph_sph::eos::EquationOfState;
 
 /// How the density evolves.
@@ -38,6 +40,11 @@ pub enum DensityMode {
 /// pressure and density of [`DummyAdami2012`]. Continuity:
 /// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij + D_i, with the prescribed wall velocity for walls
 /// and the diffusion D_i over fluid neighbours only.
+///
+/// A gas ([`WcsphSystem::gas`]) takes its pressure from its density and internal energy and
+/// integrates the energy equation of [`crate::gas`], with its own artificial viscosity in
+/// place of the viscous term (the loop is then monomorphised over [`GasViscosity`], without
+/// diffusion, shifting or SPS, which a gas scene refuses).
 pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     /// Smoothing kernel.
     pub kernel: K,
@@ -63,6 +70,8 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     pub shifting: Option<ParticleShifting>,
     /// Sub-particle-scale turbulence (off: `None`).
     pub sps: Option<SubParticleStress<D>>,
+    /// A gas: p = p(ρ, e) and the energy equation (off: `None`, a barotropic liquid).
+    pub gas: Option<GasDynamics>,
     /// Lattice spacing Δx (the reference distance of shifting's anti-clustering term).
     pub spacing: Real,
     /// The step Δt being taken (set by the solver before each step; shifting scales with it).
@@ -82,6 +91,8 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     volume: Vec<Real>,
     /// p_i / ρ_i² of every particle, computed once per evaluation.
     pressure_term: Vec<Real>,
+    /// A gas's c_i of every particle, computed once per evaluation (empty for a liquid).
+    sound_speed: Vec<Real>,
 }
 
 impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
@@ -117,6 +128,7 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
             xsph: 0.0,
             shifting: None,
             sps: None,
+            gas: None,
             spacing: 0.0,
             time_step: 0.0,
             density_mode: DensityMode::Continuity,
@@ -126,18 +138,42 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
             shepard_due: false,
             volume: Vec::new(),
             pressure_term: Vec::new(),
+            sound_speed: Vec::new(),
         })
     }
 
-    /// p_i = p(ρ_i) for every particle (clamped at zero when asked).
+    /// p_i = p(ρ_i) for every particle (clamped at zero when asked); for a gas
+    /// p_i = p(ρ_i, e_i).
+    ///
+    /// # Panics
+    /// For a gas whose particles have no internal-energy field (a scene sets it from the
+    /// fluid's initial pressure).
     pub fn update_pressure(&self, fluid: &mut Particles<D>) {
         let eos = self.eos;
         let clamp = self.clamp_negative_pressure;
         let Particles {
-            density, pressure, ..
+            density,
+            pressure,
+            energy,
+            ..
         } = fluid;
         let pressure = pressure.get_or_insert_with(Vec::new);
         pressure.resize(density.len(), 0.0);
+        if let Some(gas) = &self.gas {
+            let energy = energy
+                .as_deref()
+                .expect("a gas's particles carry their internal energy");
+            let law = gas.law;
+            (
+                pressure.par_iter_mut(),
+                density.par_iter(),
+                energy.par_iter(),
+            )
+                .into_par_iter()
+                .with_min_len(1024)
+                .for_each(|(p, &rho, &e)| *p = law.pressure(rho, e));
+            return;
+        }
         pressure
             .par_iter_mut()
             .zip(density.par_iter())
@@ -261,6 +297,24 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
                 *v = m / rho;
                 *term = correction * p / (rho * rho);
             });
+        if let Some(gas) = &self.gas {
+            // c_i, and the pressure term c p_i V_i² of the particle-volume form.
+            self.sound_speed.resize(fluid.len(), 0.0);
+            let law = gas.law;
+            (
+                self.sound_speed.par_iter_mut(),
+                self.pressure_term.par_iter_mut(),
+                self.volume.par_iter(),
+                fluid.density.par_iter(),
+                pressure.par_iter(),
+            )
+                .into_par_iter()
+                .with_min_len(1024)
+                .for_each(|(c, term, v, &rho, &p)| {
+                    *c = law.sound_speed(rho, p);
+                    *term = correction * p * v * v;
+                });
+        }
         self.diffusion.prepare(
             &self.kernel,
             self.lists.domain(),
@@ -289,7 +343,7 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             let speed = speed[0];
             shifting.step(&self.kernel, self.spacing, speed, self.time_step)
         });
-        self.viscosity.visit(RatePass {
+        let pass = RatePass {
             kernel: self.kernel,
             lists: &self.lists,
             gravity: self.gravity,
@@ -303,7 +357,19 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
             diffusion: &self.diffusion,
             shift,
             sps: self.sps.as_ref(),
-        });
+        };
+        match &self.gas {
+            None => self.viscosity.visit(pass),
+            Some(gas) => {
+                let viscosity = GasViscosity {
+                    sound_speed: &self.sound_speed,
+                    alpha: gas.alpha,
+                    beta: gas.beta,
+                    smoothing_length: self.kernel.smoothing_length(),
+                };
+                pass.run(Inviscid, &NoDiffusion, NoShift, NoSps, viscosity);
+            }
+        }
         if self.xsph > 0.0 {
             let add = shift.is_some();
             self.xsph_correction(fluid, &mut rates.position_correction, add);
@@ -330,7 +396,8 @@ struct RatePass<'a, const D: usize, K: Kernel<D>> {
     gravity: Vector<D>,
     walls: &'a WallParticles<D>,
     volume: &'a [Real],
-    /// `pressure_term` = c p/ρ² with c the gradient correction, which the wall terms take too.
+    /// `pressure_term` = c p/ρ² with c the gradient correction, which the wall terms take too
+    /// (a gas's: c p V², [`EnergyEquation::pressure_weight`]).
     pressure_term: &'a [Real],
     gradient_correction: Real,
     summation: bool,
@@ -369,21 +436,36 @@ impl<const D: usize, K: Kernel<D>, V: Viscosity<D>> DiffusionVisitor<D>
     fn visit<F: DensityDiffusion<D>>(self, diffusion: &F) {
         let viscosity = self.viscosity;
         match (self.pass.shift, self.pass.sps) {
-            (None, None) => self.pass.run(viscosity, diffusion, NoShift, NoSps),
-            (Some(step), None) => self.pass.run(viscosity, diffusion, step, NoSps),
-            (None, Some(sps)) => self.pass.run(viscosity, diffusion, NoShift, sps.term()),
-            (Some(step), Some(sps)) => self.pass.run(viscosity, diffusion, step, sps.term()),
+            (None, None) => self
+                .pass
+                .run(viscosity, diffusion, NoShift, NoSps, Barotropic),
+            (Some(step), None) => self.pass.run(viscosity, diffusion, step, NoSps, Barotropic),
+            (None, Some(sps)) => {
+                self.pass
+                    .run(viscosity, diffusion, NoShift, sps.term(), Barotropic)
+            }
+            (Some(step), Some(sps)) => {
+                self.pass
+                    .run(viscosity, diffusion, step, sps.term(), Barotropic)
+            }
         }
     }
 }
 
 impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
-    fn run<V: Viscosity<D>, F: DensityDiffusion<D>, S: ShiftTerm, T: TurbulenceTerm<D>>(
+    fn run<
+        V: Viscosity<D>,
+        F: DensityDiffusion<D>,
+        S: ShiftTerm,
+        T: TurbulenceTerm<D>,
+        E: EnergyEquation<D>,
+    >(
         self,
         viscosity: V,
         diffusion: &F,
         shift: S,
         sps: T,
+        energy: E,
     ) {
         let Self {
             kernel,
@@ -406,75 +488,97 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
             density,
             ..
         } = fluid;
+        // The energy rates exist only for a gas: a liquid's loop zips an empty stand-in.
+        let n = rates.acceleration.len();
+        let energy_rate = if E::ON {
+            Either::Left(rates.energy_rate.par_iter_mut().map(Some))
+        } else {
+            Either::Right(rayon::iter::repeat_n((), n).map(|()| None))
+        };
         (
             rates.acceleration.par_iter_mut(),
             rates.density_rate.par_iter_mut(),
             rates.position_correction.par_iter_mut(),
+            energy_rate,
         )
             .into_par_iter()
             .enumerate()
-            .for_each(|(i, (acceleration, density_rate, correction))| {
-                let (v_i, rho_i) = (velocity[i], density[i]);
-                let p_over_rho2_i = pressure_term[i];
-                let eta2 = 0.01 * h * h;
-                let mut a_i = gravity;
-                let mut drho_i = 0.0;
-                let mut sums = ShiftSums::<D>::default();
-                lists.for_each_neighbour(&kernel, position, i, |neighbour| {
-                    let (j, grad) = (neighbour.index, neighbour.grad);
-                    let pair = Pair::new(
-                        neighbour.r_ij,
-                        neighbour.r2,
-                        eta2,
-                        grad,
-                        v_i - velocity[j],
-                        rho_i,
-                        density[j],
-                        mass[j],
-                    );
-                    a_i -= grad * (mass[j] * (p_over_rho2_i + pressure_term[j]));
-                    a_i += viscosity.acceleration(&pair);
-                    if T::ON {
-                        a_i += sps.acceleration(i, j, mass[j], &grad);
-                    }
-                    drho_i += mass[j] * pair.v_ij.dot(&grad);
-                    drho_i += diffusion.rate(i, j, &pair, volume[j]);
+            .for_each(
+                |(i, (acceleration, density_rate, correction, energy_rate))| {
+                    let (v_i, rho_i, mass_i) = (velocity[i], density[i], mass[i]);
+                    let p_over_rho2_i = pressure_term[i];
+                    let eta2 = 0.01 * h * h;
+                    let mut a_i = gravity;
+                    let mut drho_i = 0.0;
+                    let mut de_i = 0.0;
+                    let mut sums = ShiftSums::<D>::default();
+                    lists.for_each_neighbour(&kernel, position, i, |neighbour| {
+                        let (j, grad) = (neighbour.index, neighbour.grad);
+                        let pair = Pair::new(
+                            neighbour.r_ij,
+                            neighbour.r2,
+                            eta2,
+                            grad,
+                            v_i - velocity[j],
+                            rho_i,
+                            density[j],
+                            mass[j],
+                        );
+                        a_i -= grad
+                            * E::pressure_weight(mass_i, mass[j], p_over_rho2_i, pressure_term[j]);
+                        a_i += viscosity.acceleration(&pair);
+                        if T::ON {
+                            a_i += sps.acceleration(i, j, mass[j], &grad);
+                        }
+                        if E::ON {
+                            let (a_viscous, heating) = energy.viscous(i, j, &pair);
+                            a_i += a_viscous;
+                            de_i += p_over_rho2_i / mass_i * pair.v_ij.dot(&grad) + heating;
+                        }
+                        drho_i += E::continuity_mass(mass_i, mass[j]) * pair.v_ij.dot(&grad);
+                        drho_i += diffusion.rate(i, j, &pair, volume[j]);
+                        if S::ON {
+                            let w = kernel.value(neighbour.r);
+                            shift.add(&mut sums, neighbour.r_ij, w, grad * volume[j]);
+                        }
+                    });
+                    lists.for_each_wall(&kernel, position, &walls.position, i, |neighbour| {
+                        let (w, grad) = (neighbour.index, neighbour.grad);
+                        let rho_w = walls.density[w];
+                        let mass_w = rho_w * walls.volume[w];
+                        let pair = Pair::new(
+                            neighbour.r_ij,
+                            neighbour.r2,
+                            eta2,
+                            grad,
+                            v_i - V::wall_velocity(walls, w),
+                            rho_i,
+                            rho_w,
+                            mass_w,
+                        );
+                        let p_over_rho2_w =
+                            gradient_correction * walls.pressure[w] / (rho_w * rho_w);
+                        a_i -= grad * (mass_w * (p_over_rho2_i + p_over_rho2_w));
+                        a_i += viscosity.acceleration(&pair);
+                        if T::ON {
+                            a_i += sps.wall_acceleration(i, mass_w, &grad);
+                        }
+                        drho_i += mass_w * (v_i - walls.velocity[w]).dot(&grad);
+                        if S::ON {
+                            let (w_iw, weighted) =
+                                (kernel.value(neighbour.r), grad * walls.volume[w]);
+                            shift.add(&mut sums, neighbour.r_ij, w_iw, weighted);
+                        }
+                    });
+                    *acceleration = a_i;
+                    *density_rate = if summation { 0.0 } else { drho_i };
                     if S::ON {
-                        let w = kernel.value(neighbour.r);
-                        shift.add(&mut sums, neighbour.r_ij, w, grad * volume[j]);
+                        *correction = shift.finish(&sums);
                     }
-                });
-                lists.for_each_wall(&kernel, position, &walls.position, i, |neighbour| {
-                    let (w, grad) = (neighbour.index, neighbour.grad);
-                    let rho_w = walls.density[w];
-                    let mass_w = rho_w * walls.volume[w];
-                    let pair = Pair::new(
-                        neighbour.r_ij,
-                        neighbour.r2,
-                        eta2,
-                        grad,
-                        v_i - V::wall_velocity(walls, w),
-                        rho_i,
-                        rho_w,
-                        mass_w,
-                    );
-                    let p_over_rho2_w = gradient_correction * walls.pressure[w] / (rho_w * rho_w);
-                    a_i -= grad * (mass_w * (p_over_rho2_i + p_over_rho2_w));
-                    a_i += viscosity.acceleration(&pair);
-                    if T::ON {
-                        a_i += sps.wall_acceleration(i, mass_w, &grad);
+                    if let Some(energy_rate) = energy_rate {
+                        *energy_rate = de_i;
                     }
-                    drho_i += mass_w * (v_i - walls.velocity[w]).dot(&grad);
-                    if S::ON {
-                        let (w_iw, weighted) = (kernel.value(neighbour.r), grad * walls.volume[w]);
-                        shift.add(&mut sums, neighbour.r_ij, w_iw, weighted);
-                    }
-                });
-                *acceleration = a_i;
-                *density_rate = if summation { 0.0 } else { drho_i };
-                if S::ON {
-                    *correction = shift.finish(&sums);
-                }
-            });
+                },
+            );
     }
 }

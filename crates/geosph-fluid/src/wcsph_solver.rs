@@ -30,12 +30,16 @@ pub struct Wcsph<const D: usize, K: Kernel<D>> {
 }
 
 impl<const D: usize, K: Kernel<D>> Wcsph<D, K> {
-    /// A solver for `fluid`; creates its pressure field from the current density.
+    /// A solver for `fluid`; creates its pressure field from the current density (and, for
+    /// a gas, internal energy, whose rate the integrator then carries).
     pub fn new(
         system: WcsphSystem<D, K>,
-        integrator: Integrator<D>,
+        mut integrator: Integrator<D>,
         fluid: &mut Particles<D>,
     ) -> Self {
+        if system.gas.is_some() {
+            integrator.enable_energy();
+        }
         fluid.enable_pressure();
         system.update_pressure(fluid);
         Self {
@@ -69,6 +73,17 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         self.system.shepard_due =
             self.shepard_every > 0 && self.steps > 0 && self.steps % self.shepard_every == 0;
         let gravity = self.system.gravity.norm();
+        // A gas's sound speed is its state's: the largest c_i of the owned particles.
+        let sound_speed = match &self.system.gas {
+            None => self.system.eos.sound_speed,
+            Some(gas) => {
+                let pressure = fluid.pressure.as_deref().unwrap_or_default();
+                let speeds = fluid.density[..owned].iter().zip(pressure);
+                speeds.fold(0.0, |c: Real, (&rho, &p)| {
+                    c.max(gas.law.sound_speed(rho, p))
+                })
+            }
+        };
         let mut largest = [
             match self.motion {
                 Some(_) => {
@@ -82,12 +97,13 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
                 .sps
                 .as_ref()
                 .map_or(0.0, |sps| sps.max_eddy_viscosity()),
+            sound_speed,
         ];
         lists.max_over_ranks(&mut largest);
         let limits = StepLimits {
             cfl: self.cfl,
             smoothing_length: self.system.kernel.smoothing_length(),
-            sound_speed: self.system.eos.sound_speed,
+            sound_speed: largest[3],
             // Moving walls (bodies) count as the flow does: a body must not outrun the step.
             max_speed: largest[0],
             max_acceleration: largest[1].max(gravity),
@@ -111,7 +127,21 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             )?;
         }
         self.steps += 1;
-        let (mean, max) = density_errors(&fluid.density[..owned], self.system.eos.rest_density);
+        let (mean, max) = match &self.system.gas {
+            None => density_errors(&fluid.density[..owned], self.system.eos.rest_density),
+            // A gas has no rest density to keep: its state must stay physical.
+            Some(_) => {
+                let energy = fluid.energy.as_deref().unwrap_or_default();
+                let unphysical = fluid.density[..owned]
+                    .iter()
+                    .any(|&rho| self.density_error(rho) > 0.0)
+                    || energy[..owned]
+                        .iter()
+                        .any(|e| !(e.is_finite() && *e >= 0.0));
+                let error = if unphysical { Real::INFINITY } else { 0.0 };
+                (error, error)
+            }
+        };
         let (mean, max, wall_contacts) =
             self.system
                 .lists
@@ -145,6 +175,11 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         _fluid: &mut Particles<D>,
         transport: Box<dyn Transport>,
     ) -> Result<(), SolverError> {
+        if self.system.gas.is_some() {
+            return Err(SolverError::NotDistributed(
+                "a gas (an equation of state with internal energy) runs in one process only".into(),
+            ));
+        }
         self.system.lists.can_distribute()?;
         self.system.lists.distribute(transport)?;
         Ok(())
@@ -162,12 +197,24 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         self.system.eos.sound_speed
     }
 
+    /// |ρ/ρ₀ − 1|; for a gas, whose density may take any positive value, 0 for a finite
+    /// positive density and infinite otherwise.
     fn density_error(&self, density: Real) -> Real {
-        (density / self.system.eos.rest_density - 1.0).abs()
+        match self.system.gas {
+            None => (density / self.system.eos.rest_density - 1.0).abs(),
+            Some(_) if density.is_finite() && density > 0.0 => 0.0,
+            Some(_) => Real::INFINITY,
+        }
     }
 
     fn blow_up_advice(&self) -> &'static str {
-        "the sound speed is too low or the time step too large (lower `cfl`)"
+        match self.system.gas {
+            None => "the sound speed is too low or the time step too large (lower `cfl`)",
+            Some(_) => {
+                "the time step is too large for the shocks (lower `cfl`) or their artificial \
+                 viscosity too weak (raise `viscosity.alpha` and `viscosity.beta`)"
+            }
+        }
     }
 
     fn remove_particles(
@@ -199,6 +246,9 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         per_particle.push_matrices("acceleration", &rates.acceleration[..owned]);
         per_particle.push("density_rate", &rates.density_rate[..owned]);
         per_particle.push_matrices("position_correction", &rates.position_correction[..owned]);
+        if rates.has_energy() {
+            per_particle.push("energy_rate", &rates.energy_rate[..owned]);
+        }
         // The largest ν_t of the last rates over the ranks: the next step's viscous limit.
         if let Some(sps) = &self.system.sps {
             let mut largest = [sps.max_eddy_viscosity()];
@@ -232,6 +282,10 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             acceleration: per_particle.take_matrices("acceleration", n)?,
             density_rate: per_particle.take_values("density_rate", n)?,
             position_correction: per_particle.take_matrices("position_correction", n)?,
+            energy_rate: match self.system.gas {
+                Some(_) => per_particle.take_values("energy_rate", n)?,
+                None => Vec::new(),
+            },
         };
         if let Some(sps) = &mut self.system.sps {
             sps.restore_max_eddy_viscosity(state.arrays.take_value("max_eddy_viscosity")?);

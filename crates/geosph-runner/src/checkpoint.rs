@@ -130,6 +130,9 @@ impl ParticleState {
         if let Some(pressure) = &particles.pressure {
             arrays.push("pressure", pressure);
         }
+        if let Some(energy) = &particles.energy {
+            arrays.push("energy", energy);
+        }
         if let Some(soil) = &particles.soil {
             arrays.push_matrices("stress", &soil.stress);
             arrays.push_matrices("strain", &soil.strain);
@@ -165,6 +168,10 @@ impl ParticleState {
             Some(_) => Some(a.take_values("pressure", n)?),
             None => None,
         };
+        let energy = match like.energy {
+            Some(_) => Some(a.take_values("energy", n)?),
+            None => None,
+        };
         let soil = match like.soil {
             Some(_) => Some(SoilFields {
                 stress: a.take_matrices("stress", n)?,
@@ -185,6 +192,7 @@ impl ParticleState {
             density: a.take_values("density", n)?,
             id: self.id,
             pressure,
+            energy,
             soil,
             gradient_correction,
         })

@@ -347,6 +347,9 @@ pub(crate) fn with_frame_sets<const D: usize>(
     if let Some(pressure) = &fluid.pressure {
         fluid_frame = fluid_frame.with(Field::scalar("pressure", &pressure[range.clone()]));
     }
+    if let Some(energy) = &fluid.energy {
+        fluid_frame = fluid_frame.with(Field::scalar("internal_energy", &energy[range.clone()]));
+    }
     // The particles' stress, then what the solver derives from it, then the other soil fields.
     let derived = solver.output_scalars(fluid);
     let soil = fluid.soil.as_ref().map(|fields| {

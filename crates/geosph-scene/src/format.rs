@@ -284,6 +284,29 @@ pub struct FluidSpec {
     /// always gives the same particles. For testing how a solver copes with disorder.
     #[serde(default)]
     pub jitter: Real,
+    /// A gas only (an equation of state with internal energy): its initial pressure in Pa,
+    /// which with `density` sets each particle's internal energy; the reference state
+    /// (ρ₀, p₀) of the gas.
+    #[serde(default)]
+    pub pressure: Option<Real>,
+    /// A gas only: blocks that start in another state than (`density`, `pressure`), e.g. the
+    /// two sides of a shock tube. Their particles keep the lattice spacing, so a denser
+    /// state has heavier particles (m = ρ dx^D).
+    #[serde(default)]
+    pub states: Vec<BlockState>,
+}
+
+/// The initial state of the gas in one block of the fluid.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BlockState {
+    /// The block, an index into `fluid.blocks` (its sites that an earlier block already
+    /// holds belong to that one).
+    pub block: usize,
+    /// Density in kg/m³.
+    pub density: Real,
+    /// Pressure in Pa.
+    pub pressure: Real,
 }
 
 /// The velocity the particles start with.

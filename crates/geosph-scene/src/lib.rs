@@ -46,6 +46,7 @@ pub mod body_spec;
 mod checks;
 mod error;
 pub mod format;
+mod gas;
 mod initial;
 mod mesh_walls;
 mod parse;
@@ -57,8 +58,8 @@ pub mod validate;
 
 pub use body_spec::{BodyShape, BodySpec};
 pub use format::{
-    FluidSpec, HealthSpec, HeightSpec, InitialVelocity, LoadSpec, OutputSpec, ProbeSpec, Region,
-    Scene, SolverSpec, SurfaceSpec, WallSpec,
+    BlockState, FluidSpec, HealthSpec, HeightSpec, InitialVelocity, LoadSpec, OutputSpec,
+    ProbeSpec, Region, Scene, SolverSpec, SurfaceSpec, WallSpec,
 };
 pub use regions::BlockReport;
 pub use setup::{LoadSurface, Setup, build};

@@ -142,10 +142,14 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         .sqrt()
         .max(initial_speed(&fluid_spec.velocity, &position))
         .max(wall_speed);
-    let sound_speed = match start.sound_speed {
-        Some(c0) => c0,
-        None if largest_speed > 0.0 => 10.0 * largest_speed,
-        None => {
+    // A gas's reference state is (ρ₀, p₀) of the fluid, its sound speed that state's.
+    let gas = crate::gas::gas_law(scene);
+    let gas_pressure = fluid_spec.pressure.filter(|_| gas.is_some());
+    let sound_speed = match (gas, start.sound_speed) {
+        (Some(law), _) => law.sound_speed(fluid_spec.density, gas_pressure.expect("validated")),
+        (None, Some(c0)) => c0,
+        (None, None) if largest_speed > 0.0 => 10.0 * largest_speed,
+        (None, None) => {
             return Err(SceneError::Field {
                 field: "solver.sound_speed".into(),
                 message: "must be given when gravity is zero, the fluid starts at rest and no \
@@ -156,7 +160,7 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
         }
     };
     let rest_density = fluid_spec.density;
-    let background_pressure = start.background_pressure;
+    let background_pressure = gas_pressure.unwrap_or(start.background_pressure);
     let eos = EquationOfState {
         kind: start.equation_of_state,
         rest_density,
@@ -175,6 +179,9 @@ pub fn build<const D: usize>(scene: &Scene) -> Result<Setup<D>, SceneError> {
             *rho = eos.density(*p);
         }
         fluid.pressure = Some(pressure);
+    }
+    if let Some(law) = gas {
+        crate::gas::set_state(&mut fluid, fluid_spec, &blocks, law, dx.powi(D as i32));
     }
     set_velocity(&mut fluid, &fluid_spec.velocity, &eos);
 

@@ -226,7 +226,10 @@ impl Scene {
             1.0,
         )?;
         match &self.fluid {
-            Some(fluid) => self.validate_fluid(fluid)?,
+            Some(fluid) => {
+                self.validate_fluid(fluid)?;
+                crate::gas::validate(self, fluid)?;
+            }
             None => return Err(fail("fluid", "the scene has no fluid: nothing to simulate")),
         }
         let support_cells = self.smoothing_ratio * kernel.support_factor();

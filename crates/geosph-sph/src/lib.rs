@@ -46,7 +46,7 @@ pub mod wall_motion;
 pub use config_error::ConfigError;
 pub use density_error::{compression, density_errors};
 pub use distributed::{Distribution, ExchangeCounts};
-pub use eos::{EosKind, EquationOfState};
+pub use eos::{EosKind, EquationOfState, GasLaw};
 /// How the pair lists' grids index their cells (dense or hashed), as [`SphSetup`] names it.
 pub use geosph_neighbours::CellIndex;
 /// The transport of a distributed run (MPI in `geosph-mpi`), as [`Solver::distribute`] takes it.

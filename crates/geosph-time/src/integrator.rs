@@ -1,6 +1,7 @@
 //! Explicit integration schemes.
 //!
-//! Each scheme advances position x, velocity v and density ρ by one step
+//! Each scheme advances position x, velocity v, density ρ and, where it exists, the specific
+//! internal energy e by one step
 //! Δt using the [`Rates`] of an [`ExplicitSystem`]. The position rate is v + δv with the
 //! system's position correction δv (e.g. XSPH). All updates are per-particle parallel loops
 //! (rayon) that write only their own slot, so results do not depend on the thread count.
@@ -57,6 +58,8 @@ struct StartState<const D: usize> {
     position: Vec<Vector<D>>,
     velocity: Vec<Vector<D>>,
     density: Vec<Real>,
+    /// The internal energy, sized like `density` when the particles have an energy field.
+    energy: Vec<Real>,
 }
 
 /// An explicit integrator: the [`Scheme`] plus its scratch arrays, allocated once.
@@ -83,11 +86,13 @@ impl<const D: usize> Integrator<D> {
                 position: Vec::new(),
                 velocity: vec![Vector::zeros(); n],
                 density: vec![0.0; n],
+                energy: Vec::new(),
             },
             Scheme::PredictorCorrector | Scheme::RungeKutta4 => StartState {
                 position: vec![Vector::zeros(); n],
                 velocity: vec![Vector::zeros(); n],
                 density: vec![0.0; n],
+                energy: Vec::new(),
             },
         };
         let accumulated = if scheme == Scheme::RungeKutta4 {
@@ -106,6 +111,17 @@ impl<const D: usize> Integrator<D> {
             start,
             rates_current: false,
         }
+    }
+
+    /// Makes the integrator advance the particles' internal energy e with the rates'
+    /// `energy_rate` as it advances the density (for particles with an energy field).
+    pub fn enable_energy(&mut self) {
+        self.rates.enable_energy();
+        if self.scheme == Scheme::RungeKutta4 {
+            self.accumulated.enable_energy();
+        }
+        let start = &mut self.start;
+        start.energy.resize(start.density.len(), 0.0);
     }
 
     /// The scheme.
@@ -139,6 +155,7 @@ impl<const D: usize> Integrator<D> {
             field.truncate(n);
         }
         start.density.truncate(n);
+        start.energy.truncate(n);
         self.accumulated.truncate(n);
         self.rates = rates;
         self.rates_current = current;
@@ -149,6 +166,9 @@ impl<const D: usize> Integrator<D> {
         permutation.apply(&mut self.rates.acceleration);
         permutation.apply(&mut self.rates.density_rate);
         permutation.apply(&mut self.rates.position_correction);
+        if self.rates.has_energy() {
+            permutation.apply(&mut self.rates.energy_rate);
+        }
     }
 
     /// Drops the entries of the particles `k` without `keep[k]` from every per-particle array,
@@ -166,6 +186,7 @@ impl<const D: usize> Integrator<D> {
             retain_sized(field, keep);
         }
         retain_sized(&mut start.density, keep);
+        retain_sized(&mut start.energy, keep);
         self.invalidate();
     }
 
@@ -196,6 +217,9 @@ impl<const D: usize> Integrator<D> {
                 system.rates(particles, time, rates);
                 add_scaled(&mut particles.velocity, &rates.acceleration, dt);
                 add_scaled(&mut particles.density, &rates.density_rate, dt);
+                if let Some(energy) = energy_of(particles, rates) {
+                    add_scaled(energy, &rates.energy_rate, dt);
+                }
                 position_rate(x_rate, &particles.velocity, &rates.position_correction);
                 add_scaled(&mut particles.position, x_rate, dt);
                 system.finish_stage(particles);
@@ -228,6 +252,19 @@ impl<const D: usize> Integrator<D> {
                         *v = *v_half + a * half;
                         *rho = *rho_half + rho_rate * half;
                     });
+                if let Some(energy) = energy_of(particles, rates) {
+                    (
+                        energy.par_iter_mut(),
+                        start.energy.par_iter_mut(),
+                        rates.energy_rate.par_iter(),
+                    )
+                        .into_par_iter()
+                        .with_min_len(MIN_CHUNK)
+                        .for_each(|(e, e_half, e_rate)| {
+                            *e_half = *e + e_rate * half;
+                            *e = *e_half + e_rate * half;
+                        });
+                }
                 system.finish_stage(particles);
                 *rates_current = false;
                 system.prepare(particles)?;
@@ -292,6 +329,11 @@ impl<const D: usize> StartState<D> {
         self.position.copy_from_slice(&particles.position);
         self.velocity.copy_from_slice(&particles.velocity);
         self.density.copy_from_slice(&particles.density);
+        if let Some(energy) = &particles.energy
+            && !self.energy.is_empty()
+        {
+            self.energy.copy_from_slice(energy);
+        }
     }
 
     /// v ← v_saved + Δt a, ρ ← ρ_saved + Δt ρ̇ (one fused pass).
@@ -310,6 +352,9 @@ impl<const D: usize> StartState<D> {
                 *v = v_half + a * dt;
                 *rho = rho_half + rho_rate * dt;
             });
+        if let Some(energy) = energy_of(particles, rates) {
+            from_start(energy, &self.energy, &rates.energy_rate, dt);
+        }
     }
 
     /// x ← x⁰ + Δt ẋ, v ← v⁰ + Δt a, ρ ← ρ⁰ + Δt ρ̇.
@@ -333,6 +378,9 @@ impl<const D: usize> StartState<D> {
             &rates.density_rate,
             dt,
         );
+        if let Some(energy) = energy_of(particles, rates) {
+            from_start(energy, &self.energy, &rates.energy_rate, dt);
+        }
     }
 }
 
@@ -355,6 +403,17 @@ fn accumulate<const D: usize>(
     blend(&mut sum.acceleration, keep, &rates.acceleration, weight);
     blend(&mut sum.density_rate, keep, &rates.density_rate, weight);
     blend(&mut sum.position_correction, keep, x_rate, weight);
+    if sum.has_energy() {
+        blend(&mut sum.energy_rate, keep, &rates.energy_rate, weight);
+    }
+}
+
+/// The particles' internal energy when they have one and the rates carry its rate.
+fn energy_of<'a, const D: usize>(
+    particles: &'a mut Particles<D>,
+    rates: &Rates<D>,
+) -> Option<&'a mut Vec<Real>> {
+    particles.energy.as_mut().filter(|_| rates.has_energy())
 }
 
 /// ẋ = v + δv.
@@ -408,7 +467,8 @@ where
 mod tests {
     use super::*;
 
-    /// A set of independent harmonic oscillators, a = −ω² x, ρ̇ = −ρ (exact: e^{−t}).
+    /// A set of independent harmonic oscillators, a = −ω² x, ρ̇ = −ρ (exact: e^{−t}) and,
+    /// with an energy field, ė = −2 e (exact: e^{−2t}).
     struct Oscillators {
         omega: Real,
     }
@@ -422,6 +482,9 @@ mod tests {
             for i in 0..particles.len() {
                 rates.acceleration[i] = -self.omega * self.omega * particles.position[i];
                 rates.density_rate[i] = -particles.density[i];
+                if let Some(energy) = &particles.energy {
+                    rates.energy_rate[i] = -2.0 * energy[i];
+                }
             }
         }
     }
@@ -465,12 +528,15 @@ mod tests {
         }
     }
 
-    /// Error in x and ρ at t = 1 for x(0) = 1, v(0) = 0, ρ(0) = 1 with `steps` steps.
-    fn error(scheme: Scheme, steps: usize) -> (Real, Real) {
+    /// Error in x, ρ and e at t = 1 for x(0) = 1, v(0) = 0, ρ(0) = e(0) = 1 with `steps`
+    /// steps.
+    fn error(scheme: Scheme, steps: usize) -> [Real; 3] {
         let omega = 2.0;
         let mut particles = Particles::<1>::at_rest(vec![Vector::<1>::new(1.0)], 1.0, 1.0);
+        particles.enable_energy()[0] = 1.0;
         let mut system = Oscillators { omega };
         let mut integrator = Integrator::new(scheme, 1);
+        integrator.enable_energy();
         let dt = 1.0 / steps as Real;
         for n in 0..steps {
             integrator
@@ -479,13 +545,13 @@ mod tests {
         }
         let x_error = (particles.position[0][0] - omega.cos()).abs();
         let rho_error = (particles.density[0] - (-1.0_f64).exp()).abs();
-        (x_error, rho_error)
+        let energy_error = (particles.energy.as_ref().unwrap()[0] - (-2.0_f64).exp()).abs();
+        [x_error, rho_error, energy_error]
     }
 
-    fn observed_order(scheme: Scheme) -> (Real, Real) {
-        let (coarse_x, coarse_rho) = error(scheme, 40);
-        let (fine_x, fine_rho) = error(scheme, 80);
-        ((coarse_x / fine_x).log2(), (coarse_rho / fine_rho).log2())
+    fn observed_order(scheme: Scheme) -> [Real; 3] {
+        let (coarse, fine) = (error(scheme, 40), error(scheme, 80));
+        std::array::from_fn(|k| (coarse[k] / fine[k]).log2())
     }
 
     #[test]
@@ -496,7 +562,7 @@ mod tests {
             (Scheme::PredictorCorrector, 2.0),
             (Scheme::RungeKutta4, 4.0),
         ] {
-            let (x_order, rho_order) = observed_order(scheme);
+            let [x_order, rho_order, energy_order] = observed_order(scheme);
             assert!(
                 (x_order - order).abs() < 0.25,
                 "{scheme:?}: position order {x_order}, expected {order}"
@@ -504,6 +570,10 @@ mod tests {
             assert!(
                 (rho_order - order).abs() < 0.25,
                 "{scheme:?}: density order {rho_order}, expected {order}"
+            );
+            assert!(
+                (energy_order - order).abs() < 0.25,
+                "{scheme:?}: internal-energy order {energy_order}, expected {order}"
             );
         }
     }

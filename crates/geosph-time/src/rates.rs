@@ -6,6 +6,8 @@ use geosph_core::{Particles, Real, Vector};
 ///
 /// `position_correction` is added to the velocity when positions are advanced
 /// (dx/dt = v + δv), e.g. the XSPH term of Monaghan (1989); it is zero when unused.
+/// `energy_rate` exists (is as long as the others) only for particles with an internal-energy
+/// field ([`Rates::enable_energy`]); it is empty otherwise.
 #[derive(Clone, Debug, Default)]
 pub struct Rates<const D: usize> {
     /// dv/dt.
@@ -14,6 +16,8 @@ pub struct Rates<const D: usize> {
     pub density_rate: Vec<Real>,
     /// δv in dx/dt = v + δv.
     pub position_correction: Vec<Vector<D>>,
+    /// de/dt of the specific internal energy (empty without an energy field).
+    pub energy_rate: Vec<Real>,
 }
 
 impl<const D: usize> Rates<D> {
@@ -23,7 +27,18 @@ impl<const D: usize> Rates<D> {
             acceleration: vec![Vector::zeros(); n],
             density_rate: vec![0.0; n],
             position_correction: vec![Vector::zeros(); n],
+            energy_rate: Vec::new(),
         }
+    }
+
+    /// Creates the energy rate (zero), as long as the other rates.
+    pub fn enable_energy(&mut self) {
+        self.energy_rate.resize(self.len(), 0.0);
+    }
+
+    /// Whether the rates carry an energy rate.
+    pub fn has_energy(&self) -> bool {
+        !self.energy_rate.is_empty()
     }
 
     /// Number of particles.
@@ -45,6 +60,9 @@ impl<const D: usize> Rates<D> {
         geosph_core::retain(&mut self.acceleration, keep);
         geosph_core::retain(&mut self.density_rate, keep);
         geosph_core::retain(&mut self.position_correction, keep);
+        if self.has_energy() {
+            geosph_core::retain(&mut self.energy_rate, keep);
+        }
     }
 
     /// Keeps the rates of the first `n` particles (the scratch of a restart with fewer
@@ -53,6 +71,7 @@ impl<const D: usize> Rates<D> {
         self.acceleration.truncate(n);
         self.density_rate.truncate(n);
         self.position_correction.truncate(n);
+        self.energy_rate.truncate(n);
     }
 
     /// Largest |dv/dt|, reduced in a fixed order.

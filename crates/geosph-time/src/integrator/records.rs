@@ -22,7 +22,7 @@ fn resize_if<T: Clone>(values: &mut Vec<T>, used: bool, n: usize, zero: T) {
 /// and are resized without being sent.
 impl<const D: usize> PerParticle for Integrator<D> {
     fn record_width(&self) -> usize {
-        2 * D + 1
+        2 * D + 1 + usize::from(self.rates.has_energy())
     }
 
     fn pack(&self, i: usize, record: &mut Vec<Real>) {
@@ -30,6 +30,9 @@ impl<const D: usize> PerParticle for Integrator<D> {
         push(record, &rates.acceleration[i]);
         record.push(rates.density_rate[i]);
         push(record, &rates.position_correction[i]);
+        if rates.has_energy() {
+            record.push(rates.energy_rate[i]);
+        }
     }
 
     fn unpack(&mut self, i: usize, record: &[Real]) {
@@ -41,6 +44,9 @@ impl<const D: usize> PerParticle for Integrator<D> {
         rates.position_correction[i]
             .as_mut_slice()
             .copy_from_slice(&record[D + 1..2 * D + 1]);
+        if rates.has_energy() {
+            rates.energy_rate[i] = record[2 * D + 1];
+        }
     }
 
     fn resize(&mut self, n: usize) {
@@ -50,11 +56,14 @@ impl<const D: usize> PerParticle for Integrator<D> {
         rates.acceleration.resize(n, zero);
         rates.density_rate.resize(n, 0.0);
         rates.position_correction.resize(n, zero);
+        let energy = rates.has_energy();
+        resize_if(&mut rates.energy_rate, energy, n, 0.0);
         let rk4 = scheme == Scheme::RungeKutta4;
         let accumulated = &mut self.accumulated;
         resize_if(&mut accumulated.acceleration, rk4, n, zero);
         resize_if(&mut accumulated.density_rate, rk4, n, 0.0);
         resize_if(&mut accumulated.position_correction, rk4, n, zero);
+        resize_if(&mut accumulated.energy_rate, rk4 && energy, n, 0.0);
         let leap_frog = scheme == Scheme::LeapFrog;
         resize_if(&mut self.position_rate, !leap_frog, n, zero);
         let staged = matches!(scheme, Scheme::PredictorCorrector | Scheme::RungeKutta4);
@@ -63,6 +72,7 @@ impl<const D: usize> PerParticle for Integrator<D> {
         let halves = scheme != Scheme::SymplecticEuler;
         resize_if(&mut start.velocity, halves, n, zero);
         resize_if(&mut start.density, halves, n, 0.0);
+        resize_if(&mut start.energy, halves && energy, n, 0.0);
     }
 
     /// Keeps the entries `k` with `keep[k]`; unlike [`Integrator::retain`] the cached rates
