@@ -78,6 +78,8 @@ fn gas_scene_errors_name_the_field() {
             "fluid.hydrostatic",
             "hydrostatic: false",
         ),
+        ("cfl: 0.25,", "solver.xsph", "energy balance"),
+        ("states: [", "fluid.states[1].block", "has a state already"),
     ] {
         let changed = match change {
             "        pressure: 0.1,\n" => base.replacen(change, "", 1),
@@ -86,6 +88,10 @@ fn gas_scene_errors_name_the_field() {
             "density: Continuity" => base.replace(change, "density: Summation"),
             "(block: 0," => base.replace(change, "(block: 2,"),
             "pressure: 1.0)" => base.replace(change, "pressure: -1.0)"),
+            "cfl: 0.25," => base.replace(change, "cfl: 0.25, xsph: 0.5,"),
+            "states: [" => {
+                base.replace(change, "states: [(block: 0, density: 2.0, pressure: 2.0), ")
+            }
             _ => base
                 .replace(change, "gravity: [0.0, -9.81]")
                 .replace("hydrostatic: false", "hydrostatic: true"),

@@ -136,31 +136,12 @@ impl GasDynamics {
         };
         Some(Self { law, alpha, beta })
     }
-
-    /// p_i = p(ρ_i, e_i) into `pressure` and c_i into `sound_speed`, for every particle.
-    pub fn update_state(
-        &self,
-        density: &[Real],
-        energy: &[Real],
-        pressure: &mut [Real],
-        sound_speed: &mut [Real],
-    ) {
-        use rayon::prelude::*;
-        let law = self.law;
-        (pressure, sound_speed, density, energy)
-            .into_par_iter()
-            .with_min_len(1024)
-            .for_each(|(p, c, &rho, &e)| {
-                *p = law.pressure(rho, e);
-                *c = law.sound_speed(rho, *p);
-            });
-    }
 }
 
 /// Checks what a gas asks of a WCSPH configuration (fields relative to the solver block):
 /// γ in (1, 10], p∞ ≥ 0, and none of the terms written for a barotropic liquid (density
-/// diffusion, shifting, SPS, laminar viscosity) nor a sound speed or background pressure,
-/// which the gas's state sets.
+/// diffusion, shifting, XSPH, SPS, laminar viscosity, a pressure clamp, summation density)
+/// nor a sound speed or background pressure, which the gas's state sets.
 pub fn validate(config: &WcsphConfig) -> Result<(), ConfigError> {
     let (gamma, stiffness) = match config.equation_of_state {
         EosKind::Tait { .. } | EosKind::Linear => return Ok(()),
@@ -201,6 +182,18 @@ pub fn validate(config: &WcsphConfig) -> Result<(), ConfigError> {
         return refuse(
             "shifting",
             "shifting moves particles without carrying their energy",
+        );
+    }
+    if config.xsph != 0.0 {
+        return refuse(
+            "xsph",
+            "XSPH moves particles off their velocity, which breaks the energy balance",
+        );
+    }
+    if config.clamp_negative_pressure {
+        return refuse(
+            "clamp_negative_pressure",
+            "a gas's pressure follows from its energy (a negative one is a blow-up)",
         );
     }
     if config.sps.is_some() {

@@ -490,6 +490,10 @@ impl<const D: usize, K: Kernel<D>> RatePass<'_, D, K> {
         } = fluid;
         // The energy rates exist only for a gas: a liquid's loop zips an empty stand-in.
         let n = rates.acceleration.len();
+        assert!(
+            !E::ON || rates.energy_rate.len() == n,
+            "a gas's integrator carries its energy rate (Integrator::enable_energy)"
+        );
         let energy_rate = if E::ON {
             Either::Left(rates.energy_rate.par_iter_mut().map(Some))
         } else {

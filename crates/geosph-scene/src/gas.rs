@@ -66,6 +66,18 @@ pub(crate) fn validate(scene: &Scene, fluid: &FluidSpec) -> Result<(), SceneErro
                 ),
             ));
         }
+        if fluid.states[..index]
+            .iter()
+            .any(|earlier| earlier.block == state.block)
+        {
+            return Err(fail(
+                format!("{field}.block"),
+                format!(
+                    "block {} has a state already: give each block one",
+                    state.block
+                ),
+            ));
+        }
         positive(&format!("{field}.density"), state.density)?;
         gas_pressure(&format!("{field}.pressure"), state.pressure, &law)?;
     }

@@ -268,12 +268,21 @@ impl<const D: usize> Limits<D> {
         };
         let start = Scan::of(fluid, &limits);
         let mass: Real = fluid.mass.iter().sum();
-        let stored: Real = fluid
-            .density
-            .iter()
-            .zip(&fluid.mass)
-            .map(|(rho, m)| 0.5 * m * (sound_speed * (rho / rest_density - 1.0)).powi(2))
-            .sum();
+        let stored: Real = match &fluid.energy {
+            // A gas's flow draws on its internal energy, all of which it could turn into
+            // motion (a blast wave between equal densities has no compression to spend).
+            Some(energy) => energy
+                .iter()
+                .zip(&fluid.mass)
+                .map(|(e, m)| m * e.max(0.0))
+                .sum(),
+            None => fluid
+                .density
+                .iter()
+                .zip(&fluid.mass)
+                .map(|(rho, m)| 0.5 * m * (sound_speed * (rho / rest_density - 1.0)).powi(2))
+                .sum(),
+        };
         if !gravity_on_periodic_axis {
             let wall_speed = max_speed(&solver.walls().velocity);
             limits.energy = Some(EnergyBudget {
