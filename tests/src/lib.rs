@@ -1,7 +1,8 @@
 //! Shared set-ups for the geosph validation tests: particle lattices and random point sets,
-//! and the shock tube ([`shock_tube`]).
+//! the shock tube ([`shock_tube`]) and drops under surface tension ([`drops`]).
 #![warn(missing_docs)]
 
+pub mod drops;
 pub mod shock_tube;
 
 use geosph_core::{Real, Vector};
@@ -49,6 +50,22 @@ pub fn random_points<const D: usize>(
     (0..n)
         .map(|_| Vector::<D>::from_fn(|k, _| rng.random_range(min[k]..max[k])))
         .collect()
+}
+
+/// Asserts that the scene `text` is refused with a message naming `field` and containing
+/// `words`; `case` names the change in the failure.
+///
+/// # Panics
+/// If the scene parses and validates, or its message lacks `field` or `words`.
+pub fn assert_refused(text: &str, field: &str, words: &str, case: &str) {
+    let message = geosph_scene::Scene::from_ron(text)
+        .and_then(|scene| scene.validate().map(|()| scene))
+        .expect_err(case)
+        .to_string();
+    assert!(
+        message.contains(field) && message.contains(words),
+        "{case}: {message}"
+    );
 }
 
 /// An observer that keeps a copy of the fluid at the latest sample time, so a test can inspect

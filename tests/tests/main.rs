@@ -21,6 +21,7 @@ mod plane_strain_slab;
 mod soil_element;
 mod soil_sph;
 mod surface;
+mod surface_tension;
 mod turbulence;
 mod wall_pressure;
 mod wall_slip;

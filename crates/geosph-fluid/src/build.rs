@@ -16,6 +16,7 @@ use crate::gas::GasDynamics;
 use crate::incompressible::{
     Dfsph, Iisph, Incompressible, Pcisph, PressureMethod, PressureSolveSettings, PressureSystem,
 };
+use crate::surface_tension::SurfaceTension;
 use crate::wcsph::{DensityMode, WcsphSystem};
 use crate::wcsph_solver::Wcsph;
 
@@ -102,6 +103,10 @@ impl<const D: usize> KernelVisitor<D> for WcsphBuilder<'_, D> {
         system.sps = config
             .sps
             .map(|sps| SubParticleStress::new(sps, setup.spacing));
+        system.surface_tension = config
+            .surface_tension
+            .as_ref()
+            .map(|tension| SurfaceTension::new(tension, &setup.block_ids));
         system.spacing = setup.spacing;
         system.clamp_negative_pressure = config.clamp_negative_pressure;
         system.density_mode = match config.density {

@@ -12,6 +12,8 @@ use geosph_sph::{
 use geosph_time::Scheme;
 use serde::{Deserialize, Serialize};
 
+pub use crate::surface_tension::SurfaceTensionConfig;
+
 use crate::diffusion::{DeltaAntuono2010, DeltaFourtakas2019, DeltaMolteni2009, DiffusionTerm};
 use crate::incompressible::{
     PressureIteration, PressureSolveSettings, PressureSource, WallPressure,
@@ -168,6 +170,9 @@ pub struct WcsphConfig {
     /// Sub-particle-scale turbulence (default `None`: off; `Some(())` for Dalrymple & Rogers'
     /// coefficients), beside the viscous term.
     pub sps: Option<SpsConfig>,
+    /// Surface tension between the phase of the named blocks and the rest of the fluid
+    /// (default `None`: off; [`SurfaceTensionConfig`]).
+    pub surface_tension: Option<SurfaceTensionConfig>,
     /// Steps between Shepard density re-initialisations (default 0: never).
     pub shepard_every: usize,
     /// Clamp negative pressure to zero (default false).
@@ -204,6 +209,7 @@ impl Default for WcsphConfig {
             xsph: 0.0,
             shifting: None,
             sps: None,
+            surface_tension: None,
             shepard_every: 0,
             clamp_negative_pressure: false,
             background_pressure: 0.0,
@@ -240,6 +246,9 @@ impl WcsphConfig {
         }
         if let Some(shifting) = &self.shifting {
             shifting.validate("shifting")?;
+        }
+        if let Some(tension) = &self.surface_tension {
+            tension.validate("surface_tension")?;
         }
         if !(self.background_pressure.is_finite() && self.background_pressure >= 0.0) {
             return Err(ConfigError::new(

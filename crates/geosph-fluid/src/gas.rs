@@ -202,6 +202,12 @@ pub fn validate(config: &WcsphConfig) -> Result<(), ConfigError> {
             "SPS turbulence is not coupled to the energy equation",
         );
     }
+    if config.surface_tension.is_some() {
+        return refuse(
+            "surface_tension",
+            "surface tension acts between two phases of a liquid",
+        );
+    }
     if config.density != DensityConfig::Continuity || config.shepard_every > 0 {
         return Err(ConfigError::new(
             if config.shepard_every > 0 {

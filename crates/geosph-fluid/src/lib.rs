@@ -9,6 +9,8 @@
 //! - [`gas`]: a gas in WCSPH, its energy equation and artificial viscosity with local sound
 //!   speeds ([`gas::GasDynamics`]).
 //! - [`riemann`]: the exact solution of a gas's Riemann problem, the shock tube's reference.
+//! - [`surface_tension`]: the continuum surface force between two phases
+//!   ([`surface_tension::SurfaceTension`]).
 //! - [`incompressible`]: PCISPH, IISPH and DFSPH on shared operators ([`incompressible::PressureSystem`]).
 //! - [`wcsph_solver`]: [`Wcsph`], the WCSPH system under an explicit integrator.
 //! - [`config`]: scene-level configuration ([`WcsphConfig`], [`IncompressibleConfig`]).
@@ -44,6 +46,7 @@
 //!     walls: generate::tank(&min, &max, dx, 3, true, 1000.0),
 //!     spacing: dx,
 //!     cell_index: Default::default(),
+//!     block_ids: vec![0..water.len() as u32],
 //! };
 //! let mut solver = build_wcsph(&WcsphConfig::default(), setup, &mut water)?;
 //! let mut time = 0.0;
@@ -61,6 +64,7 @@ pub mod diffusion;
 pub mod gas;
 pub mod incompressible;
 pub mod riemann;
+pub mod surface_tension;
 pub mod wcsph;
 pub mod wcsph_solver;
 

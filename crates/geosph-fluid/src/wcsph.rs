@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use crate::diffusion::{DensityDiffusion, DiffusionTerm, DiffusionVisitor, NoDiffusion};
 use crate::gas::{Barotropic, EnergyEquation, GasDynamics, GasViscosity};
+use crate::surface_tension::SurfaceTension;
 use geosph_sph::eos::EquationOfState;
 
 /// How the density evolves.
@@ -72,6 +73,8 @@ pub struct WcsphSystem<const D: usize, K: Kernel<D>> {
     pub sps: Option<SubParticleStress<D>>,
     /// A gas: p = p(ρ, e) and the energy equation (off: `None`, a barotropic liquid).
     pub gas: Option<GasDynamics>,
+    /// Surface tension between two phases (off: `None`), added after the pair loop.
+    pub surface_tension: Option<SurfaceTension<D>>,
     /// Lattice spacing Δx (the reference distance of shifting's anti-clustering term).
     pub spacing: Real,
     /// The step Δt being taken (set by the solver before each step; shifting scales with it).
@@ -129,6 +132,7 @@ impl<const D: usize, K: Kernel<D>> WcsphSystem<D, K> {
             shifting: None,
             sps: None,
             gas: None,
+            surface_tension: None,
             spacing: 0.0,
             time_step: 0.0,
             density_mode: DensityMode::Continuity,
@@ -369,6 +373,16 @@ impl<const D: usize, K: Kernel<D>> ExplicitSystem<D> for WcsphSystem<D, K> {
                 };
                 pass.run(Inviscid, &NoDiffusion, NoShift, NoSps, viscosity);
             }
+        }
+        if let Some(tension) = &mut self.surface_tension {
+            tension.add_acceleration(
+                &self.kernel,
+                &self.lists,
+                fluid,
+                &self.volume,
+                self.gradient_correction,
+                &mut rates.acceleration,
+            );
         }
         if self.xsph > 0.0 {
             let add = shift.is_some();

@@ -109,7 +109,15 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             max_acceleration: largest[1].max(gravity),
             kinematic_viscosity: self.system.viscosity.kinematic_viscosity() + largest[2],
         };
-        let dt = event_step(time_step(&limits), max_dt);
+        // Capillary waves of the particle scale (Brackbill et al. 1992, eq. 61).
+        let capillary = self
+            .system
+            .surface_tension
+            .as_ref()
+            .map_or(Real::INFINITY, |tension| {
+                tension.time_step_limit(self.system.eos.rest_density, limits.smoothing_length)
+            });
+        let dt = event_step(time_step(&limits).min(capillary), max_dt);
         self.system.time_step = dt;
         self.integrator.step(&mut self.system, fluid, time, dt)?;
         let wall_contacts = keep_out_of_walls(
@@ -180,6 +188,13 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
                 "a gas (an equation of state with internal energy) runs in one process only".into(),
             ));
         }
+        if self.system.surface_tension.is_some() {
+            return Err(SolverError::NotDistributed(
+                "surface tension runs in one process only (its normals are not sent between \
+                 ranks)"
+                    .into(),
+            ));
+        }
         self.system.lists.can_distribute()?;
         self.system.lists.distribute(transport)?;
         Ok(())
@@ -205,6 +220,14 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
             Some(_) if density.is_finite() && density > 0.0 => 0.0,
             Some(_) => Real::INFINITY,
         }
+    }
+
+    fn surface_energy(&self, fluid: &Particles<D>) -> Real {
+        self.system.surface_tension.as_ref().map_or(0.0, |tension| {
+            let (kernel, domain) = (&self.system.kernel, self.system.lists.domain());
+            let correction = self.system.gradient_correction;
+            tension.coefficient * tension.interface_measure(kernel, domain, fluid, correction)
+        })
     }
 
     fn blow_up_advice(&self) -> &'static str {

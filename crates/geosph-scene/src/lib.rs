@@ -51,6 +51,7 @@ mod initial;
 mod mesh_walls;
 mod parse;
 mod periodic;
+mod phases;
 mod proximity;
 mod regions;
 pub mod setup;

@@ -54,11 +54,22 @@ fn spanned(text: &str, error: &ron::error::SpannedError, path: &str) -> SceneErr
         message.push_str(&format!("after field `{field}`: "));
     }
     message.push_str(&one_line(&error.code.to_string()));
+    if let ron::Error::NoSuchStructField { found, .. } = &error.code
+        && WCSPH_ONLY.contains(&found.as_str())
+        && !path.contains("Wcsph")
+    {
+        message.push_str(&format!(
+            " (`{found}` is an option of the `Wcsph` solver only)"
+        ));
+    }
     if let Some(found) = excerpt(text, &error.span) {
         message.push_str(&format!(", found `{found}`"));
     }
     SceneError::Parse(message)
 }
+
+/// Terms that only WCSPH has: another solver's block that names one is told so.
+const WCSPH_ONLY: [&str; 4] = ["sps", "surface_tension", "equation_of_state", "diffusion"];
 
 /// The text of `span` (or, for an empty span, the token at its start), shortened to one line.
 fn excerpt(text: &str, span: &ron::error::Span) -> Option<String> {

@@ -66,9 +66,25 @@ impl<const D: usize> Setup<D> {
             walls: self.walls,
             spacing: self.spacing,
             cell_index: self.cell_index,
+            block_ids: block_ids(&self.blocks),
         };
         (self.fluid, solver_inputs)
     }
+}
+
+/// The ids of each block's particles: the particles are made in block order with ids from 0
+/// ([`Particles::at_rest`]).
+fn block_ids(blocks: &[BlockReport]) -> Vec<std::ops::Range<u32>> {
+    let mut start = 0;
+    blocks
+        .iter()
+        .map(|block| {
+            let end = start + block.particles as u32;
+            let ids = start..end;
+            start = end;
+            ids
+        })
+        .collect()
 }
 
 /// 2D wall particles as `D`-dimensional ones (used for D = 2 only, after validation).

@@ -229,6 +229,7 @@ impl Scene {
             Some(fluid) => {
                 self.validate_fluid(fluid)?;
                 crate::gas::validate(self, fluid)?;
+                crate::phases::validate(self, fluid)?;
             }
             None => return Err(fail("fluid", "the scene has no fluid: nothing to simulate")),
         }

@@ -29,6 +29,9 @@ pub struct SphSetup<const D: usize> {
     pub spacing: Real,
     /// How the pair lists' grids index their cells (the scene's `domain.cells`).
     pub cell_index: CellIndex,
+    /// The particle ids of each fluid block, in the scene's order (a term that acts on some
+    /// blocks only, such as surface tension between two phases, finds its particles by them).
+    pub block_ids: Vec<std::ops::Range<u32>>,
 }
 
 /// How a solver's particles start, decided by its configuration (`particle_start` of each

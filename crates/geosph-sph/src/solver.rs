@@ -200,6 +200,13 @@ pub trait Solver<const D: usize>: Send {
         None
     }
 
+    /// Energy that the interfaces of `fluid` store and the flow can draw on, J (per metre in
+    /// 2D): σ L of surface tension; 0 without one (the default). The runner's health check
+    /// counts it in the energy budget.
+    fn surface_energy(&self, _fluid: &Particles<D>) -> Real {
+        0.0
+    }
+
     /// The density error this solver controls, per particle, as a fraction of ρ₀: |ρ/ρ₀ − 1|
     /// for WCSPH; the compression max(ρ/ρ₀ − 1, 0) for the incompressible solvers, whose
     /// free-surface particles sit below ρ₀ by construction.

@@ -289,7 +289,8 @@ impl<const D: usize> Limits<D> {
                 initial: start.kinetic_energy
                     + stored
                     + 0.5 * mass * wall_speed * wall_speed
-                    + external_energy,
+                    + external_energy
+                    + solver.surface_energy(fluid),
                 initial_gravity_moment: start.gravity_moment,
                 floor: 0.5 * mass * (ENERGY_FLOOR_MACH * sound_speed).powi(2),
             });
