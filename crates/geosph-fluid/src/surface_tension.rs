@@ -101,6 +101,8 @@ pub struct SurfaceTension<const D: usize> {
     colour: Vec<Real>,
     /// n_i = ∇c_i of every particle.
     normal: Vec<Vector<D>>,
+    /// n̂_i where the normal is reliable, else zero.
+    unit_normal: Vec<Vector<D>>,
 }
 
 impl<const D: usize> SurfaceTension<D> {
@@ -123,6 +125,7 @@ impl<const D: usize> SurfaceTension<D> {
             colour_of_id,
             colour: Vec::new(),
             normal: Vec::new(),
+            unit_normal: Vec::new(),
         }
     }
 
@@ -191,35 +194,56 @@ impl<const D: usize> SurfaceTension<D> {
             .for_each(|(c, &id)| *c = colour_of_id[id as usize]);
         let colour = &self.colour;
         self.normal.resize(fluid.len(), Vector::zeros());
-        self.normal.par_iter_mut().enumerate().for_each(|(i, n_i)| {
-            let mut sum = Vector::<D>::zeros();
-            lists.for_each_neighbour(kernel, position, i, |pair| {
-                let j = pair.index;
-                sum += pair.grad * (volume[j] * (colour[j] - colour[i]));
-            });
-            *n_i = sum * correction;
-        });
-        let normal = &self.normal;
+        self.unit_normal.resize(fluid.len(), Vector::zeros());
         let reliable = self.normal_threshold / kernel.smoothing_length();
-        let unit = |n: &Vector<D>| {
-            let length = n.norm();
-            (length > reliable).then(|| n / length)
-        };
+        self.normal
+            .par_iter_mut()
+            .zip(self.unit_normal.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (n_i, unit_i))| {
+                // Inside one phase the sum is zero: a scan of the listed colours, with no
+                // kernel evaluated, finds most particles there.
+                let c_i = colour[i];
+                let listed = lists.inner().neighbours(i);
+                if listed.iter().all(|&j| colour[j as usize] == c_i) {
+                    *n_i = Vector::zeros();
+                    *unit_i = Vector::zeros();
+                    return;
+                }
+                let mut sum = Vector::<D>::zeros();
+                lists.for_each_neighbour(kernel, position, i, |pair| {
+                    let j = pair.index;
+                    sum += pair.grad * (volume[j] * (colour[j] - c_i));
+                });
+                *n_i = sum * correction;
+                let length = n_i.norm();
+                *unit_i = if length > reliable {
+                    *n_i / length
+                } else {
+                    Vector::zeros()
+                };
+            });
+        let (normal, unit_normal) = (&self.normal, &self.unit_normal);
+        // A unit normal is zero where the normal is unreliable.
+        let is_reliable = |n: &Vector<D>| n.norm_squared() > 0.5;
         let sigma = self.coefficient;
         acceleration
             .par_iter_mut()
             .enumerate()
             .for_each(|(i, a_i)| {
-                let Some(unit_i) = unit(&normal[i]) else {
+                let unit_i = unit_normal[i];
+                if !is_reliable(&unit_i) {
                     return;
-                };
+                }
                 let mut change = Matrix::<D>::zeros();
                 let mut moment = Matrix::<D>::zeros();
                 lists.for_each_neighbour(kernel, position, i, |pair| {
                     let j = pair.index;
-                    if let Some(unit_j) = unit(&normal[j]) {
-                        change += (unit_j - unit_i) * (pair.grad * volume[j]).transpose();
-                        moment -= pair.r_ij * (pair.grad * volume[j]).transpose();
+                    let unit_j = unit_normal[j];
+                    if is_reliable(&unit_j) {
+                        let weighted = (pair.grad * volume[j]).transpose();
+                        change += (unit_j - unit_i) * weighted;
+                        moment -= pair.r_ij * weighted;
                     }
                 });
                 if let Some(inverse) = moment.try_inverse() {
