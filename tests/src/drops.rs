@@ -29,7 +29,8 @@ pub fn square_drop(dx: Real, end_time: Real, sample_interval: Real) -> Scene {
 }
 
 /// The square drop's scene with the square replaced by the ellipse r(θ) = R (1 + ε cos 2θ)
-/// about the box's centre (a polygon of 256 sides), of kinematic viscosity `viscosity`.
+/// about the box's centre (a polygon of 256 sides), of kinematic viscosity `viscosity`,
+/// without density diffusion.
 pub fn elliptic_drop(
     dx: Real,
     radius: Real,
@@ -51,6 +52,9 @@ pub fn elliptic_drop(
         config.viscosity = geosph_fluid::config::ViscosityConfig::Laminar {
             kinematic_viscosity: viscosity,
         };
+        // At the drop's low viscosity, density diffusion down the Laplace jump feeds a
+        // parasitic current that wrecks the oscillation (docs/surface-tension.md).
+        config.diffusion = geosph_fluid::config::DiffusionConfig::None;
     }
     scene
 }
@@ -182,16 +186,48 @@ pub fn lamb_frequency(mode: u32, radius: Real) -> Real {
     (n * (n * n - 1.0) * SURFACE_TENSION / (2.0 * DENSITY * radius.powi(3))).sqrt()
 }
 
+/// The rate s = −γ + iω of mode n of the 2D drop of radius R and the kinematic viscosity
+/// `viscosity` inside and out, at the scene's σ and ρ (`crate::viscous_drop`); Lamb's
+/// frequency is its inviscid limit.
+pub fn viscous_rate(mode: u32, radius: Real, viscosity: Real) -> nalgebra::Complex<Real> {
+    crate::viscous_drop::viscous_mode(mode, radius, viscosity, SURFACE_TENSION, DENSITY)
+}
+
+/// The times at which Q(t) of `moment` crosses zero (linearly interpolated).
+fn zero_crossings(moment: &[(Real, Real)]) -> Vec<Real> {
+    moment
+        .windows(2)
+        .filter(|pair| pair[0].1 != 0.0 && pair[0].1.signum() != pair[1].1.signum())
+        .map(|pair| {
+            let ((t0, q0), (t1, q1)) = (pair[0], pair[1]);
+            t0 + (t1 - t0) * q0 / (q0 - q1)
+        })
+        .collect()
+}
+
+/// The decay rate γ of the oscillation of Q(t) in `moment`: ln(A₁/A_k)/(t_k − t₁) between
+/// the largest |Q| of the first and of the last of its first `half_periods` half-periods
+/// (between zero crossings); `None` if it has fewer.
+pub fn decay_rate(moment: &[(Real, Real)], half_periods: usize) -> Option<Real> {
+    let crossings = zero_crossings(moment);
+    if crossings.len() < half_periods + 1 {
+        return None;
+    }
+    let peak = |k: usize| {
+        moment
+            .iter()
+            .filter(|(t, _)| (crossings[k]..crossings[k + 1]).contains(t))
+            .map(|&(t, q)| (t, q.abs()))
+            .fold((0.0, 0.0), |a, b| if b.1 > a.1 { b } else { a })
+    };
+    let (first, last) = (peak(0), peak(half_periods - 1));
+    Some((first.1 / last.1).ln() / (last.0 - first.0))
+}
+
 /// The period of the oscillation of Q(t) in `moment`: twice the mean spacing of its first
 /// `half_periods` + 1 crossings of zero (linearly interpolated); `None` if it has fewer.
 pub fn period(moment: &[(Real, Real)], half_periods: usize) -> Option<Real> {
-    let mut crossings = Vec::new();
-    for pair in moment.windows(2) {
-        let ((t0, q0), (t1, q1)) = (pair[0], pair[1]);
-        if q0 != 0.0 && q0.signum() != q1.signum() {
-            crossings.push(t0 + (t1 - t0) * q0 / (q0 - q1));
-        }
-    }
+    let crossings = zero_crossings(moment);
     if crossings.len() < half_periods + 1 {
         return None;
     }

@@ -4,6 +4,7 @@
 
 pub mod drops;
 pub mod shock_tube;
+pub mod viscous_drop;
 
 use geosph_core::{Real, Vector};
 use rand::{Rng, SeedableRng, rngs::StdRng};

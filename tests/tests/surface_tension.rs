@@ -1,8 +1,11 @@
 //! Surface tension (issue 27, part 2): the continuum surface force between two phases of one
-//! fluid against the Laplace jump and Lamb's frequency, and the scene's refusals.
+//! fluid against the Laplace jump and the viscous mode of an oscillating drop (Lamb's
+//! frequency in the inviscid limit), and the scene's refusals.
 
 use geosph_core::Real;
-use geosph_tests::drops::{elliptic_drop, lamb_frequency, period, record, relaxed, square_drop};
+use geosph_tests::drops::{
+    elliptic_drop, lamb_frequency, period, record, relaxed, square_drop, viscous_rate,
+};
 
 /// A square drop (`data/scenes/square-drop.ron`, 0.52 m, σ = 1 N/m) relaxes to the disc of
 /// its area without blowing up or drifting: at t = 2 s its farthest particle lies within
@@ -43,21 +46,26 @@ fn a_square_drop_relaxes_to_a_circle_with_the_laplace_jump() {
     );
 }
 
-/// An elliptic drop r = R (1 + 0.1 cos 2θ), R = 0.2 m, at rest, oscillates in mode 2 with
-/// the period of Lamb (1932, §275), 2π/ω with ω² = 6σ/((ρ_in + ρ_out) R³), within 5 %
-/// over its first two periods, at dx = 0.02 m (R = 10 dx). At dx = 0.01 m the period is off
-/// by −7.1 % (docs/surface-tension.md): this holds the coarse result, not convergence.
+/// An elliptic drop r = R (1 + 0.1 cos 2θ), R = 0.2 m, at rest, ν = 0.005 m²/s, oscillates
+/// in mode 2 with the period of the viscous normal mode (`geosph_tests::viscous_drop`,
+/// whose inviscid limit is Lamb's (1932, §275) 2π/ω₀, ω₀² = 6σ/((ρ_in + ρ_out) R³)) within
+/// the issue's 5 % over its first two periods, at dx = 0.02 m (R = 10 dx). The viscous
+/// layer at the interface makes that period 6.0 % longer than Lamb's: Lamb's own formula is
+/// the reference of an inviscid drop only (docs/surface-tension.md).
 #[test]
-fn an_elliptic_drop_oscillates_at_lambs_frequency() {
-    let dx = 0.02;
-    let run = record(&elliptic_drop(dx, 0.2, 0.1, 0.005, 0.9));
+fn an_elliptic_drop_oscillates_at_the_frequency_of_the_viscous_mode() {
+    let (dx, viscosity) = (0.02, 0.005);
+    let run = record(&elliptic_drop(dx, 0.2, 0.1, viscosity, 0.9));
     let radius = (run.drop as Real * dx * dx / std::f64::consts::PI).sqrt();
+    let mode = viscous_rate(2, radius, viscosity);
+    let reference = 2.0 * std::f64::consts::PI / mode.im;
     let lamb = 2.0 * std::f64::consts::PI / lamb_frequency(2, radius);
+    assert!(reference > lamb, "the viscous mode is slower than Lamb's");
     let measured = period(&run.moment, 4).expect("two periods");
-    let error = measured / lamb - 1.0;
+    let error = measured / reference - 1.0;
     assert!(
         error.abs() < 0.05,
-        "period {measured} s against Lamb's {lamb} s ({:+.2} %)",
+        "period {measured} s against the viscous mode's {reference} s ({:+.2} %; Lamb's {lamb} s)",
         100.0 * error
     );
 }

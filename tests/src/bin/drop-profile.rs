@@ -1,7 +1,8 @@
 //! Runs the square drop and the oscillating drop of `docs/surface-tension.md` at the spacings
 //! given, prints the Laplace jump and the shape against the circle's, and the measured mode-2
-//! period against Lamb's, and plots the finest runs: the pressure across the relaxed drop
-//! over the jump σ/R, and the oscillating drop's shape moment over Lamb's period:
+//! period and decay rate against Lamb's and the viscous normal mode's, and plots the finest
+//! runs: the pressure across the relaxed drop over the jump σ/R, and the oscillating drop's
+//! shape moment over the viscous mode and Lamb's period:
 //!
 //! `cargo run --release -p geosph-tests --bin drop-profile -- docs/img 0.02 0.01`
 
@@ -11,7 +12,8 @@ use std::path::Path;
 use geosph_core::{Real, Vector};
 use geosph_io::{PlotSpec, Series, line_plot_png};
 use geosph_tests::drops::{
-    DropRecord, elliptic_drop, lamb_frequency, period, record, relaxed, square_drop,
+    DropRecord, decay_rate, elliptic_drop, lamb_frequency, period, record, relaxed, square_drop,
+    viscous_rate,
 };
 
 /// The oscillating drop's radius, amplitude ε, viscosity and duration.
@@ -49,20 +51,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             square = Some((run, r.laplace));
         }
     }
-    println!("oscillating drop: dx, R, measured period, Lamb's period, error");
+    println!(
+        "oscillating drop: dx, R, measured period, Lamb's period, error, viscous mode's period, \
+         error, measured decay rate, viscous mode's, error"
+    );
     let mut ellipse = None;
     for &dx in &spacings {
         let (radius, epsilon, viscosity, end) = ELLIPSE;
         let run = record(&elliptic_drop(dx, radius, epsilon, viscosity, end));
         let radius = (run.drop as Real * dx * dx / PI).sqrt();
         let lamb = 2.0 * PI / lamb_frequency(2, radius);
+        let mode = viscous_rate(2, radius, viscosity);
+        let viscous = 2.0 * PI / mode.im;
         let measured = period(&run.moment, 4).ok_or("fewer than two periods")?;
+        let decay = decay_rate(&run.moment, 4).ok_or("fewer than two periods")?;
         println!(
-            "{dx}, {radius:.4}, {measured:.4}, {lamb:.4}, {:+.2} %",
-            100.0 * (measured / lamb - 1.0)
+            "{dx}, {radius:.4}, {measured:.4}, {lamb:.4}, {:+.2} %, {viscous:.4}, {:+.2} %, \
+             {decay:.3}, {:.3}, {:+.1} %",
+            100.0 * (measured / lamb - 1.0),
+            100.0 * (measured / viscous - 1.0),
+            -mode.re,
+            100.0 * (decay / -mode.re - 1.0)
         );
         if dx == finest {
-            ellipse = Some((run, lamb));
+            ellipse = Some((run, lamb, mode));
         }
     }
     let (run, laplace) = square.expect("the finest square drop");
@@ -72,11 +84,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         laplace,
         finest,
     )?;
-    let (run, lamb) = ellipse.expect("the finest elliptic drop");
+    let (run, lamb, mode) = ellipse.expect("the finest elliptic drop");
     plot_moment(
         &Path::new(&folder).join("oscillating-drop.png"),
         &run,
-        lamb,
+        (lamb, mode),
         finest,
     )?;
     Ok(())
@@ -134,18 +146,22 @@ fn plot_pressure(
     Ok(())
 }
 
-/// The shape moment Q(t)/Q(0) with Lamb's cos(2πt/T).
+/// The shape moment Q(t)/Q(0) with the viscous mode's e^{−γt} cos ωt and Lamb's cos(2πt/T).
 fn plot_moment(
     image: &Path,
     run: &DropRecord,
-    lamb: Real,
+    (lamb, mode): (Real, nalgebra::Complex<Real>),
     dx: Real,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let q0 = run.moment[0].1;
     let t: Vec<Real> = run.moment.iter().map(|m| m.0).collect();
     let q: Vec<Real> = run.moment.iter().map(|m| m.1 / q0).collect();
     let reference: Vec<Real> = t.iter().map(|&t| (2.0 * PI * t / lamb).cos()).collect();
-    let title = format!("Oscillating drop, mode 2 (dx = {dx} m): shape moment and Lamb's period");
+    let viscous: Vec<Real> = t
+        .iter()
+        .map(|&t| (mode.re * t).exp() * (mode.im * t).cos())
+        .collect();
+    let title = format!("Oscillating drop, mode 2 (dx = {dx} m): shape moment and references");
     line_plot_png(
         image,
         &PlotSpec {
@@ -159,7 +175,12 @@ fn plot_moment(
                     y: &q,
                 },
                 Series {
-                    label: "cos(2πt/T), T of Lamb (1932)",
+                    label: "viscous normal mode e^(−γt) cos ωt",
+                    x: &t,
+                    y: &viscous,
+                },
+                Series {
+                    label: "cos(2πt/T), T of Lamb (1932), inviscid",
                     x: &t,
                     y: &reference,
                 },
