@@ -71,6 +71,8 @@ pub struct DropRecord {
     pub max_speed: Vec<Real>,
     /// The particles at the last sample.
     pub last: Option<Particles<2>>,
+    /// The run's time steps.
+    pub steps: usize,
 }
 
 impl DropRecord {
@@ -119,13 +121,20 @@ impl Observer<3> for DropRecord {
 /// # Panics
 /// If the run fails.
 pub fn record(scene: &Scene) -> DropRecord {
-    let setup = geosph_scene::build::<2>(scene).expect("the scene builds");
+    try_record(scene).expect("the drop runs")
+}
+
+/// [`record`], with the reason as one line if the scene does not build or the run fails.
+pub fn try_record(scene: &Scene) -> Result<DropRecord, String> {
+    let setup = geosph_scene::build::<2>(scene).map_err(|error| error.to_string())?;
     let mut record = DropRecord {
         drop: setup.blocks[0].particles as u32,
         ..Default::default()
     };
-    run(scene, &RunOptions::default(), &mut record).expect("the drop runs");
-    record
+    let summary =
+        run(scene, &RunOptions::default(), &mut record).map_err(|error| error.to_string())?;
+    record.steps = summary.steps;
+    Ok(record)
 }
 
 /// A drop at rest compared with the circle of its area.

@@ -8,6 +8,7 @@ use geosph_fluid::config::{DiffusionConfig, ViscosityConfig};
 use geosph_fluid::incompressible::{PressureIteration, PressureSource};
 use geosph_kernels::KernelKind;
 use geosph_runner::{NoObserver, Observer, RunOptions, Summary};
+use geosph_scene::format::CellIndexSpec;
 use geosph_scene::{Scene, SolverSpec, WallSpec};
 use geosph_sph::{ParticleShifting, SpsConfig};
 
@@ -35,11 +36,15 @@ pub enum Case {
     /// A level elastic soil layer 0.1 m deep, periodic over 0.2 m, under gravity (geostatic
     /// stage only).
     K0Column,
+    /// The square drop under surface tension (`data/scenes/square-drop.ron`), WCSPH only.
+    SquareDrop,
+    /// Sod's (1978) shock tube of an ideal gas (`data/scenes/sod-shock-tube.ron`), WCSPH only.
+    ShockTube,
 }
 
 impl Case {
     /// Every case, in report order.
-    pub const ALL: [Case; 8] = [
+    pub const ALL: [Case; 10] = [
         Case::TaylorGreen,
         Case::Poiseuille,
         Case::Couette,
@@ -48,6 +53,8 @@ impl Case {
         Case::WallPressure,
         Case::Collapse,
         Case::K0Column,
+        Case::SquareDrop,
+        Case::ShockTube,
     ];
 
     /// The name used in files and tables.
@@ -61,6 +68,8 @@ impl Case {
             Case::WallPressure => "wall-pressure",
             Case::Collapse => "collapse",
             Case::K0Column => "k0-column",
+            Case::SquareDrop => "square-drop",
+            Case::ShockTube => "shock-tube",
         }
     }
 
@@ -72,6 +81,12 @@ impl Case {
     /// Whether the case is soil (run by the soil solver only).
     pub fn is_soil(self) -> bool {
         matches!(self, Case::Collapse | Case::K0Column)
+    }
+
+    /// Whether the case runs its own scene's WCSPH solver only (a model no other solver has),
+    /// [`crate::fluid_models`].
+    pub fn is_wcsph_model(self) -> bool {
+        matches!(self, Case::SquareDrop | Case::ShockTube)
     }
 
     /// Simulated end time in s (`quick`: the shorter time of the CI matrix).
@@ -92,6 +107,10 @@ impl Case {
             (Case::Collapse, false) => 1.0,
             (Case::Collapse, true) => 0.15,
             (Case::K0Column, _) => 0.01,
+            // At rest but for parasitic currents (docs/surface-tension.md); quick: rounding.
+            (Case::SquareDrop, false) => 2.0,
+            (Case::SquareDrop, true) => 0.5,
+            (Case::ShockTube, _) => geosph_tests::shock_tube::END_TIME,
         }
     }
 
@@ -134,12 +153,26 @@ impl Case {
                  error of the mean σ_h/σ_v against K₀ = ν/(1 − ν) = 0.4286, below the top two \
                  layers, after the geostatic stage"
             }
+            Case::SquareDrop => {
+                "|Δp/(σ/R) − 1| of the pressure jump Δp (the mean within R/2 of the centroid \
+                 minus the mean beyond R + 2 supports) at the end against Laplace's σ/R, R the \
+                 radius of the square's area; the value column is Δp in Pa; variant `off`: \
+                 no surface tension"
+            }
+            Case::ShockTube => {
+                "the L1 error of the density over x ∈ [0, 1] at t = 0.2 against the exact \
+                 solution of Sod's Riemann problem, over the initial jump 0.875; the value \
+                 column is the L1 error of the pressure"
+            }
         }
     }
 
     /// The scene of `config`.
     pub fn scene(self, config: &Config, quick: bool) -> Result<Scene, String> {
         let end_time = self.end_time(quick);
+        if self.is_wcsph_model() {
+            return crate::fluid_models::scene(self, config, end_time);
+        }
         let mut scene = match self {
             Case::TaylorGreen => Scene::from_ron(&format!(
                 "Scene(name: \"taylor-green\", dimension: 2, dx: 0.1, smoothing_ratio: 2.0,
@@ -167,6 +200,7 @@ impl Case {
             Case::Collapse => {
                 Scene::from_ron(include_str!("../../../data/scenes/granular-collapse.ron"))
             }
+            Case::SquareDrop | Case::ShockTube => unreachable!("returned above"),
             Case::K0Column => Scene::from_ron(
                 "Scene(name: \"k0-column\", dimension: 2, dx: 0.005, smoothing_ratio: 1.3,
                    end_time: 0.01,
@@ -204,11 +238,21 @@ impl Case {
             _ => scene.output.sample_interval.min(end_time / 10.0),
         };
         scene.solver = solver(self, config, scene.solver)?;
+        if config.variant == "hashed" {
+            let domain = scene
+                .domain
+                .as_mut()
+                .ok_or("the scene has no domain box to hash")?;
+            domain.cells = CellIndexSpec::Hashed;
+        }
         Ok(scene)
     }
 
     /// Runs `config` and measures it; `Err` with a one-line reason when the run fails.
     pub fn run(self, config: &Config, quick: bool) -> Result<Measurement, String> {
+        if self.is_wcsph_model() {
+            return crate::fluid_models::run(self, config, quick);
+        }
         let scene = self.scene(config, quick)?;
         let options = RunOptions::default();
         let started = Instant::now();
@@ -291,6 +335,7 @@ impl Case {
                     figure("vertical_stress_error_mean")?.max((lateral_ratio / k0 - 1.0).abs());
                 (summary, lateral_ratio, error)
             }
+            Case::SquareDrop | Case::ShockTube => unreachable!("returned above"),
         };
         let wall_time = started.elapsed().as_secs_f64();
         let steps = summary.steps + summary.stage.as_ref().map_or(0, |stage| stage.steps);
@@ -369,7 +414,9 @@ fn solver(case: Case, config: &Config, own: SolverSpec) -> Result<SolverSpec, St
         SolverSpec::Wcsph(wcsph) => {
             wcsph.cfl *= config.dt_factor;
             wcsph.diffusion = match config.variant {
-                "fourtakas" | "default" | "sps" => DiffusionConfig::Fourtakas { delta: 0.1 },
+                "fourtakas" | "default" | "sps" | "hashed" => {
+                    DiffusionConfig::Fourtakas { delta: 0.1 }
+                }
                 "molteni" => DiffusionConfig::Molteni { delta: 0.1 },
                 "antuono" => DiffusionConfig::Antuono { delta: 0.1 },
                 "none" => DiffusionConfig::None,

@@ -13,10 +13,13 @@
 //! - hydrostatic tank: p = ρ₀ g (H − y);
 //! - dam break: Martin & Moyce (1952) front and column height;
 //! - granular column collapse (Bui et al. 2008): the deposit's surface against the experiment;
-//! - K₀ column: σ_v = ρ g (H − y), σ_h/σ_v = ν/(1 − ν).
+//! - K₀ column: σ_v = ρ g (H − y), σ_h/σ_v = ν/(1 − ν);
+//! - square drop under surface tension: the Laplace jump σ/R ([`fluid_models`]);
+//! - Sod's shock tube of an ideal gas: the exact Riemann solution ([`fluid_models`]).
 #![warn(missing_docs)]
 
 pub mod case;
+pub mod fluid_models;
 pub mod laminar;
 pub mod matrix;
 pub mod report;
@@ -35,8 +38,10 @@ pub struct Config {
     pub solver: &'static str,
     /// Kernel name, as in a scene.
     pub kernel: &'static str,
-    /// A solver option set: for WCSPH the density diffusion (`molteni`, `antuono`, `none`)
-    /// or the default diffusion with SPS turbulence (`sps`), otherwise `default`.
+    /// A solver option set: for WCSPH the density diffusion (`molteni`, `antuono`, `none`),
+    /// the default diffusion with SPS turbulence (`sps`) or with the hashed cell index of
+    /// the neighbour search (`hashed`), for the square drop no surface tension (`off`),
+    /// otherwise `default`.
     pub variant: &'static str,
     /// Particle spacing in m.
     pub dx: Real,

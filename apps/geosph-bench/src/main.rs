@@ -25,7 +25,7 @@ struct Cli {
     #[arg(long)]
     stability: bool,
     /// Only these cases (taylor-green, poiseuille, couette, hydrostatic, dam-break, wall-pressure,
-    /// collapse, k0-column).
+    /// collapse, k0-column, square-drop, shock-tube).
     #[arg(long = "case", value_parser = parse_case)]
     cases: Vec<Case>,
     /// Output folder: the report (`benchmarks.md` or `stability.md`), the CSV and `img/`

@@ -30,12 +30,18 @@ pub fn resolutions(case: Case, quick: bool) -> Vec<Real> {
         (Case::Collapse, true) => vec![0.02, 0.0125, 0.01],
         (Case::K0Column, false) => vec![0.01, 0.005, 0.0025],
         (Case::K0Column, true) => vec![0.02, 0.0125, 0.01],
+        (Case::SquareDrop, false) => vec![0.04, 0.02, 0.01],
+        (Case::SquareDrop, true) => vec![0.04],
+        (Case::ShockTube, false) => vec![0.02, 0.01, 0.005],
+        (Case::ShockTube, true) => vec![0.02],
     }
 }
 
 /// The matrix: every case at every resolution with each solver and kernel at the default time
 /// step (WCSPH with its default, Fourtakas et al.'s diffusion); WCSPH also with Molteni's and
-/// Antuono's diffusion and none, and every solver also at twice the
+/// Antuono's diffusion and none, with SPS turbulence and with the hashed cells (scenes with a
+/// domain box), the square drop also without surface tension (the WCSPH models, square
+/// drop and shock tube, with their scenes' kernel only), and every solver also at twice the
 /// default time step on the middle resolution. `quick`: WCSPH and DFSPH (WCSPH only for the
 /// vortex) with Wendland C2 only.
 pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
@@ -44,12 +50,13 @@ pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
         let dxs = resolutions(case, quick);
         let solvers: &[&'static str] = match (case, quick) {
             _ if case.is_soil() => &["soil"],
+            _ if case.is_wcsph_model() => &["wcsph"],
             // The pressure solvers are far less accurate on the vortex (docs/benchmarks.md).
             (Case::TaylorGreen, true) => &["wcsph"],
             (_, true) => &["wcsph", "dfsph"],
             (_, false) => &FLUID_SOLVERS,
         };
-        let kernels: &[&'static str] = match (case.is_soil(), quick) {
+        let kernels: &[&'static str] = match (case.is_soil() || case.is_wcsph_model(), quick) {
             (false, false) => &KERNELS,
             _ => &["wendland-c2"],
         };
@@ -62,7 +69,7 @@ pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
             dt_factor,
         };
         for &solver in solvers {
-            let variant = if solver == "wcsph" {
+            let variant = if solver == "wcsph" && !case.is_wcsph_model() {
                 "fourtakas"
             } else {
                 "default"
@@ -88,8 +95,19 @@ pub fn configurations(cases: &[Case], quick: bool) -> Vec<Config> {
                     configs.push(config(solver, "wendland-c2", "bicgstab", dx, 1.0));
                 }
             }
-            if solver == "wcsph" && !case.is_soil() {
-                for other in ["molteni", "antuono", "none", "sps"] {
+            // Each option on and off: diffusion, SPS, surface tension, the hashed cells (on
+            // the scenes with a domain box).
+            let others: &[&'static str] = match case {
+                Case::SquareDrop => &["off", "hashed"],
+                Case::ShockTube => &["hashed"],
+                Case::TaylorGreen | Case::Poiseuille | Case::Couette => {
+                    &["molteni", "antuono", "none", "sps", "hashed"]
+                }
+                _ if case.is_soil() => &[],
+                _ => &["molteni", "antuono", "none", "sps"],
+            };
+            if solver == "wcsph" {
+                for &other in others {
                     for &dx in &dxs {
                         configs.push(config(solver, "wendland-c2", other, dx, 1.0));
                     }
