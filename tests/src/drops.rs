@@ -188,11 +188,10 @@ pub fn relaxed(record: &DropRecord, dx: Real, support: Real) -> Relaxed {
     }
 }
 
-/// Lamb's (1932, §275) frequency of mode n of a 2D drop of radius R and density ρ_in in a
-/// fluid of density ρ_out: ω² = n (n² − 1) σ / ((ρ_in + ρ_out) R³).
+/// Lamb's (1932, §275) frequency of mode n of the 2D drop of radius R at the scene's σ and ρ
+/// (inside and out), [`crate::viscous_drop::lamb_frequency`].
 pub fn lamb_frequency(mode: u32, radius: Real) -> Real {
-    let n = Real::from(mode);
-    (n * (n * n - 1.0) * SURFACE_TENSION / (2.0 * DENSITY * radius.powi(3))).sqrt()
+    crate::viscous_drop::lamb_frequency(mode, radius, SURFACE_TENSION, DENSITY)
 }
 
 /// The rate s = −γ + iω of mode n of the 2D drop of radius R and the kinematic viscosity
@@ -216,10 +215,10 @@ fn zero_crossings(moment: &[(Real, Real)]) -> Vec<Real> {
 
 /// The decay rate γ of the oscillation of Q(t) in `moment`: ln(A₁/A_k)/(t_k − t₁) between
 /// the largest |Q| of the first and of the last of its first `half_periods` half-periods
-/// (between zero crossings); `None` if it has fewer.
+/// (between zero crossings); `None` if it has fewer or `half_periods` < 2.
 pub fn decay_rate(moment: &[(Real, Real)], half_periods: usize) -> Option<Real> {
     let crossings = zero_crossings(moment);
-    if crossings.len() < half_periods + 1 {
+    if half_periods < 2 || crossings.len() < half_periods + 1 {
         return None;
     }
     let peak = |k: usize| {

@@ -137,6 +137,14 @@ fn determinant(s: C, n: u32, radius: Real, viscosity: Real, sigma: Real, density
     .determinant()
 }
 
+/// Lamb's (1932, §275) frequency ω₀ of mode `n` of a 2D drop of radius `radius` in a fluid of
+/// its density `density`, both inviscid: ω₀² = n (n² − 1) σ / ((ρ_in + ρ_out) R³) with
+/// ρ_in = ρ_out = ρ.
+pub fn lamb_frequency(n: u32, radius: Real, sigma: Real, density: Real) -> Real {
+    let n = Real::from(n);
+    (n * (n * n - 1.0) * sigma / (2.0 * density * radius.powi(3))).sqrt()
+}
+
 /// The complex rate s = −γ + iω of mode `n` of a 2D drop of radius `radius` (m), kinematic
 /// viscosity `viscosity` (m²/s) inside and out, surface tension `sigma` (N/m) and density
 /// `density` (kg/m³) inside and out: its period is 2π/ω and its amplitude decays as e^{−γt}.
@@ -145,8 +153,7 @@ fn determinant(s: C, n: u32, radius: Real, viscosity: Real, sigma: Real, density
 /// If the secant method does not converge in 100 steps, or the viscous layer is not thin
 /// (|R √(s/ν)| < 8).
 pub fn viscous_mode(n: u32, radius: Real, viscosity: Real, sigma: Real, density: Real) -> C {
-    let nn = Real::from(n);
-    let lamb = (nn * (nn * nn - 1.0) * sigma / (2.0 * density * radius.powi(3))).sqrt();
+    let lamb = lamb_frequency(n, radius, sigma, density);
     let f = |s: C| determinant(s, n, radius, viscosity, sigma, density);
     let (mut s0, mut s1) = (
         C::new(-1e-3 * lamb, lamb),

@@ -8,11 +8,10 @@
 use std::time::Instant;
 
 use geosph_core::Real;
-use geosph_scene::format::CellIndexSpec;
 use geosph_scene::{Scene, SolverSpec};
 use geosph_tests::{drops, shock_tube};
 
-use crate::case::Measurement;
+use crate::case::{Measurement, hash_cells};
 use crate::{Case, Config};
 
 /// The scene of `config` for the square drop or the shock tube, run to `end_time`.
@@ -39,13 +38,7 @@ pub fn scene(case: Case, config: &Config, end_time: Real) -> Result<Scene, Strin
     match (config.variant, case) {
         ("default", _) => {}
         ("off", Case::SquareDrop) => wcsph.surface_tension = None,
-        ("hashed", _) => {
-            scene
-                .domain
-                .as_mut()
-                .ok_or("the scene has no domain")?
-                .cells = CellIndexSpec::Hashed
-        }
+        ("hashed", _) => hash_cells(&mut scene)?,
         (other, _) => return Err(format!("unknown {} variant `{other}`", case.name())),
     }
     Ok(scene)

@@ -22,6 +22,7 @@ pub mod case;
 pub mod fluid_models;
 pub mod laminar;
 pub mod matrix;
+pub mod measures;
 pub mod report;
 pub mod stability;
 

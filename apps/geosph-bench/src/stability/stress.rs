@@ -11,7 +11,8 @@ use geosph_runner::{Observer, RunOptions};
 use geosph_scene::{InitialVelocity, Scene, SolverSpec};
 
 use super::StabilityResult;
-use crate::case::{DEPTH, hydrostatic_error, run};
+use crate::case::run;
+use crate::measures::{DEPTH, hydrostatic_error};
 
 /// Free-surface height, pressure error and RMS speed of a still tank, sampled over a run.
 #[derive(Clone, Debug, Default)]
