@@ -314,6 +314,8 @@ impl<const D: usize> CellGrid<D> {
                     }
                 });
             let used = wave_queries.len().div_ceil(chunk);
+            let wave_pairs: usize = buffers[..used].iter().map(|b| b.len).sum();
+            reserve_extrapolated(&mut list.indices, wave_pairs, wave_end, n);
             for buffer in &buffers[..used] {
                 list.indices.extend_from_slice(buffer.filled());
             }
@@ -338,4 +340,18 @@ impl<const D: usize> CellGrid<D> {
             self.particle_count()
         );
     }
+}
+
+/// Makes room in `indices` for `more` pairs, having listed `done` of `total` queries once they
+/// are appended. If it must grow, it grows to the pairs per query so far times `total`, plus
+/// an eighth: a list's capacity ends close to its length instead of up to twice it (a `Vec`
+/// doubling), and later builds of similar size reuse it without allocating.
+fn reserve_extrapolated(indices: &mut Vec<u32>, more: usize, done: usize, total: usize) {
+    let needed = indices.len() + more;
+    if needed <= indices.capacity() {
+        return;
+    }
+    let per_query = needed as f64 / done.max(1) as f64;
+    let estimate = (per_query * total as f64 * 1.125).ceil() as usize;
+    indices.reserve_exact(estimate.max(needed) - indices.len());
 }
