@@ -90,18 +90,15 @@ impl<const D: usize> CellGrid<D> {
         let map = self.map;
         // No cell has the code u64::MAX: per axis at most 2^32 cells in 1D, 2^32 − 1 in 2D
         // and 2^21 in 3D (`CellGrid::with_index`).
-        let keyed: Vec<(u64, u32)> = position
+        let mut codes: Vec<u64> = position
             .par_iter()
-            .enumerate()
             .with_min_len(4096)
-            .map(|(i, x)| {
-                let code = map
-                    .cell_coords(x)
-                    .map_or(OUTSIDE, |c| morton_encode::<D>(c.map(|ck| ck as u32)));
-                (code, i as u32)
+            .map(|x| {
+                map.cell_coords(x)
+                    .map_or(OUTSIDE, |c| morton_encode::<D>(c.map(|ck| ck as u32)))
             })
             .collect();
-        if let Some(index) = keyed.iter().position(|&(code, _)| code == OUTSIDE) {
+        if let Some(index) = codes.iter().position(|&code| code == OUTSIDE) {
             return Err(SearchError::OutsideDomain {
                 index,
                 position: position[index].iter().copied().collect(),
@@ -109,10 +106,27 @@ impl<const D: usize> CellGrid<D> {
                 max: self.domain.max.iter().copied().collect(),
             });
         }
-        let order = radix_sort_by_key(keyed)
-            .into_iter()
-            .map(|(_, i)| i)
-            .collect();
+        // The index goes into the low bits of its code when both fit in 64 (8 B per particle
+        // and as much scratch, against 16 + 16 B for (code, index) pairs); the whole key then
+        // orders by code and, within a cell, by index, which is the stable order.
+        let code_bits = u64::BITS - codes.iter().fold(0, |o, &c| o | c).leading_zeros();
+        let index_bits = u64::BITS - (n.max(1) as u64 - 1).leading_zeros();
+        let order = if code_bits + index_bits <= u64::BITS {
+            for (i, code) in codes.iter_mut().enumerate() {
+                *code = (*code << index_bits) | i as u64;
+            }
+            let mask = (1u64 << index_bits) - 1;
+            radix_sort(codes, |key| key)
+                .into_iter()
+                .map(|key| (key & mask) as u32)
+                .collect()
+        } else {
+            let keyed = codes.into_iter().zip(0..n as u32).collect();
+            radix_sort(keyed, |(code, _)| code)
+                .into_iter()
+                .map(|(_, i)| i)
+                .collect()
+        };
         Ok(Permutation::from_order(order).expect("a sort yields a permutation"))
     }
 }
@@ -120,22 +134,23 @@ impl<const D: usize> CellGrid<D> {
 /// Marks a particle outside the domain among the Morton codes.
 const OUTSIDE: u64 = u64::MAX;
 
-/// `(key, value)` pairs sorted by key, stable, by a least-significant-digit radix sort with
-/// 8-bit digits that skips digits on which all keys agree.
-pub(crate) fn radix_sort_by_key(mut items: Vec<(u64, u32)>) -> Vec<(u64, u32)> {
-    let (all_or, all_and) = items
-        .iter()
-        .fold((0u64, u64::MAX), |(o, a), &(k, _)| (o | k, a & k));
+/// `items` sorted by `key`, stable, by a least-significant-digit radix sort with 8-bit digits
+/// that skips digits on which all keys agree.
+pub(crate) fn radix_sort<T: Copy + Default>(mut items: Vec<T>, key: impl Fn(T) -> u64) -> Vec<T> {
+    let (all_or, all_and) = items.iter().fold((0u64, u64::MAX), |(o, a), &item| {
+        let k = key(item);
+        (o | k, a & k)
+    });
     let varying = all_or & !all_and;
-    let mut scratch = vec![(0u64, 0u32); items.len()];
+    let mut scratch = vec![T::default(); items.len()];
     let mut counts = [0usize; 256];
     for shift in (0..64).step_by(8) {
         if (varying >> shift) & 0xFF == 0 {
             continue;
         }
         counts.fill(0);
-        for &(key, _) in &items {
-            counts[((key >> shift) & 0xFF) as usize] += 1;
+        for &item in &items {
+            counts[((key(item) >> shift) & 0xFF) as usize] += 1;
         }
         let mut sum = 0;
         for c in counts.iter_mut() {
@@ -144,7 +159,7 @@ pub(crate) fn radix_sort_by_key(mut items: Vec<(u64, u32)>) -> Vec<(u64, u32)> {
             sum += count;
         }
         for &item in &items {
-            let digit = ((item.0 >> shift) & 0xFF) as usize;
+            let digit = ((key(item) >> shift) & 0xFF) as usize;
             scratch[counts[digit]] = item;
             counts[digit] += 1;
         }
@@ -238,7 +253,7 @@ mod tests {
                 .enumerate()
                 .map(|(i, &k)| (k, i as u32))
                 .collect();
-            radix_sort_by_key(items)
+            radix_sort(items, |(k, _)| k)
                 .into_iter()
                 .map(|(_, i)| i)
                 .collect()
@@ -250,5 +265,39 @@ mod tests {
         assert!(sort(&[]).is_empty());
         assert_eq!(sort(&[7, 7, 7]), [0, 1, 2]);
         assert_eq!(sort(&[u64::MAX - 1, 1, u64::MAX - 1, 0]), [3, 1, 0, 2]);
+    }
+
+    /// The packed keys give the order of a stable sort by cell code: particles given two per
+    /// 0.1 square in reverse order of the squares (the grid's cells are about that size), and
+    /// one outside.
+    #[test]
+    fn z_order_sorts_by_cell_then_index() {
+        use geosph_core::{Domain, Vector};
+        let domain = Domain::new(Vector::<2>::new(0.0, 0.0), Vector::<2>::new(1.0, 1.0)).unwrap();
+        let grid = CellGrid::new(domain, 0.1).unwrap();
+        let position: Vec<Vector<2>> = (0..200)
+            .map(|k| {
+                let cell = 99 - k / 2;
+                let offset = if k % 2 == 0 { 0.07 } else { 0.03 };
+                Vector::<2>::new(
+                    (cell % 10) as f64 * 0.1 + offset,
+                    (cell / 10) as f64 * 0.1 + 0.05,
+                )
+            })
+            .collect();
+        let code = |x: &Vector<2>| {
+            let [cx, cy] = grid.map.cell_coords(x).unwrap();
+            morton_encode_2d(cx as u32, cy as u32)
+        };
+        let mut expected: Vec<u32> = (0..200).collect();
+        expected.sort_by_key(|&i| code(&position[i as usize]));
+        let order = grid.z_order(&position).unwrap();
+        assert_eq!(order.order(), expected.as_slice());
+        let mut outside = position.clone();
+        outside[17] = Vector::<2>::new(1.5, 0.5);
+        assert!(matches!(
+            grid.z_order(&outside),
+            Err(SearchError::OutsideDomain { index: 17, .. })
+        ));
     }
 }
