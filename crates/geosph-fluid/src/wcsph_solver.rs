@@ -40,6 +40,9 @@ impl<const D: usize, K: Kernel<D>> Wcsph<D, K> {
         if system.gas.is_some() {
             integrator.enable_energy();
         }
+        if system.corrects_position() {
+            integrator.enable_position_correction();
+        }
         fluid.enable_pressure();
         system.update_pressure(fluid);
         Self {
@@ -268,7 +271,9 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         let per_particle = &mut state.per_particle;
         per_particle.push_matrices("acceleration", &rates.acceleration[..owned]);
         per_particle.push("density_rate", &rates.density_rate[..owned]);
-        per_particle.push_matrices("position_correction", &rates.position_correction[..owned]);
+        if rates.has_position_correction() {
+            per_particle.push_matrices("position_correction", &rates.position_correction[..owned]);
+        }
         if rates.has_energy() {
             per_particle.push("energy_rate", &rates.energy_rate[..owned]);
         }
@@ -304,7 +309,10 @@ impl<const D: usize, K: Kernel<D>> Solver<D> for Wcsph<D, K> {
         let rates = Rates {
             acceleration: per_particle.take_matrices("acceleration", n)?,
             density_rate: per_particle.take_values("density_rate", n)?,
-            position_correction: per_particle.take_matrices("position_correction", n)?,
+            position_correction: match self.system.corrects_position() {
+                true => per_particle.take_matrices("position_correction", n)?,
+                false => Vec::new(),
+            },
             energy_rate: match self.system.gas {
                 Some(_) => per_particle.take_values("energy_rate", n)?,
                 None => Vec::new(),

@@ -9,6 +9,7 @@
 use std::ops::{Add, Mul};
 
 use geosph_core::{Particles, Real, Vector};
+use rayon::iter::Either;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -73,6 +74,11 @@ pub struct Integrator<const D: usize> {
     start: StartState<D>,
     /// Leap-frog: whether `rates` belong to the current state.
     rates_current: bool,
+    /// Whether the rates carry an energy rate ([`Integrator::enable_energy`]).
+    energy: bool,
+    /// Whether the rates carry a position correction
+    /// ([`Integrator::enable_position_correction`]).
+    corrected: bool,
 }
 
 impl<const D: usize> Integrator<D> {
@@ -96,7 +102,9 @@ impl<const D: usize> Integrator<D> {
             },
         };
         let accumulated = if scheme == Scheme::RungeKutta4 {
-            Rates::zeros(n)
+            let mut sum = Rates::zeros(n);
+            sum.enable_position_correction();
+            sum
         } else {
             Rates::default()
         };
@@ -110,13 +118,24 @@ impl<const D: usize> Integrator<D> {
             },
             start,
             rates_current: false,
+            energy: false,
+            corrected: false,
         }
+    }
+
+    /// Makes the integrator carry a position correction δv in dx/dt = v + δv, which the
+    /// system writes into the rates' `position_correction` (XSPH, particle shifting); without
+    /// it the particles drift with v and the rates have no such array.
+    pub fn enable_position_correction(&mut self) {
+        self.rates.enable_position_correction();
+        self.corrected = true;
     }
 
     /// Makes the integrator advance the particles' internal energy e with the rates'
     /// `energy_rate` as it advances the density (for particles with an energy field).
     pub fn enable_energy(&mut self) {
         self.rates.enable_energy();
+        self.energy = true;
         if self.scheme == Scheme::RungeKutta4 {
             self.accumulated.enable_energy();
         }
@@ -165,7 +184,9 @@ impl<const D: usize> Integrator<D> {
     pub fn permute(&mut self, permutation: &geosph_core::Permutation) {
         permutation.apply(&mut self.rates.acceleration);
         permutation.apply(&mut self.rates.density_rate);
-        permutation.apply(&mut self.rates.position_correction);
+        if self.rates.has_position_correction() {
+            permutation.apply(&mut self.rates.position_correction);
+        }
         if self.rates.has_energy() {
             permutation.apply(&mut self.rates.energy_rate);
         }
@@ -210,6 +231,7 @@ impl<const D: usize> Integrator<D> {
             position_rate: x_rate,
             start,
             rates_current,
+            ..
         } = self;
         match scheme {
             Scheme::SymplecticEuler => {
@@ -230,6 +252,12 @@ impl<const D: usize> Integrator<D> {
                     system.rates(particles, time, rates);
                 }
                 let half = 0.5 * dt;
+                let n = rates.len();
+                let correction = if rates.has_position_correction() {
+                    Either::Left(rates.position_correction.par_iter().copied())
+                } else {
+                    Either::Right(rayon::iter::repeat_n(Vector::zeros(), n))
+                };
                 // Kick to n+½, drift with v^{n+½}, keep the n+½ state and predict v, ρ at n+1
                 // with the old rates (so that rates depending on them are evaluated at
                 // second-order-accurate values): one fused pass over the particles.
@@ -241,7 +269,7 @@ impl<const D: usize> Integrator<D> {
                     start.density.par_iter_mut(),
                     rates.acceleration.par_iter(),
                     rates.density_rate.par_iter(),
-                    rates.position_correction.par_iter(),
+                    correction,
                 )
                     .into_par_iter()
                     .with_min_len(MIN_CHUNK)
@@ -416,12 +444,16 @@ fn energy_of<'a, const D: usize>(
     particles.energy.as_mut().filter(|_| rates.has_energy())
 }
 
-/// ẋ = v + δv.
+/// ẋ = v + δv (ẋ = v without a `correction`).
 fn position_rate<const D: usize>(
     out: &mut [Vector<D>],
     velocity: &[Vector<D>],
     correction: &[Vector<D>],
 ) {
+    if correction.is_empty() {
+        out.copy_from_slice(velocity);
+        return;
+    }
     out.par_iter_mut()
         .zip(velocity)
         .zip(correction)

@@ -5,7 +5,9 @@ use geosph_core::{Particles, Real, Vector};
 /// The time derivatives of one particle set, written by [`ExplicitSystem::rates`].
 ///
 /// `position_correction` is added to the velocity when positions are advanced
-/// (dx/dt = v + δv), e.g. the XSPH term of Monaghan (1989); it is zero when unused.
+/// (dx/dt = v + δv), e.g. the XSPH term of Monaghan (1989); like `energy_rate` it exists only
+/// when a system writes it ([`Rates::enable_position_correction`]), so that a scene without
+/// XSPH or shifting neither stores nor streams it (16 B per particle in 2D).
 /// `energy_rate` exists (is as long as the others) only for particles with an internal-energy
 /// field ([`Rates::enable_energy`]); it is empty otherwise.
 #[derive(Clone, Debug, Default)]
@@ -14,7 +16,7 @@ pub struct Rates<const D: usize> {
     pub acceleration: Vec<Vector<D>>,
     /// dρ/dt.
     pub density_rate: Vec<Real>,
-    /// δv in dx/dt = v + δv.
+    /// δv in dx/dt = v + δv (empty when no system writes one).
     pub position_correction: Vec<Vector<D>>,
     /// de/dt of the specific internal energy (empty without an energy field).
     pub energy_rate: Vec<Real>,
@@ -26,9 +28,19 @@ impl<const D: usize> Rates<D> {
         Self {
             acceleration: vec![Vector::zeros(); n],
             density_rate: vec![0.0; n],
-            position_correction: vec![Vector::zeros(); n],
+            position_correction: Vec::new(),
             energy_rate: Vec::new(),
         }
+    }
+
+    /// Creates the position correction δv (zero), as long as the other rates.
+    pub fn enable_position_correction(&mut self) {
+        self.position_correction.resize(self.len(), Vector::zeros());
+    }
+
+    /// Whether the rates carry a position correction.
+    pub fn has_position_correction(&self) -> bool {
+        !self.position_correction.is_empty()
     }
 
     /// Creates the energy rate (zero), as long as the other rates.
@@ -59,7 +71,9 @@ impl<const D: usize> Rates<D> {
         }
         geosph_core::retain(&mut self.acceleration, keep);
         geosph_core::retain(&mut self.density_rate, keep);
-        geosph_core::retain(&mut self.position_correction, keep);
+        if self.has_position_correction() {
+            geosph_core::retain(&mut self.position_correction, keep);
+        }
         if self.has_energy() {
             geosph_core::retain(&mut self.energy_rate, keep);
         }

@@ -22,15 +22,17 @@ fn resize_if<T: Clone>(values: &mut Vec<T>, used: bool, n: usize, zero: T) {
 /// and are resized without being sent.
 impl<const D: usize> PerParticle for Integrator<D> {
     fn record_width(&self) -> usize {
-        2 * D + 1 + usize::from(self.rates.has_energy())
+        D + 1 + if self.corrected { D } else { 0 } + usize::from(self.energy)
     }
 
     fn pack(&self, i: usize, record: &mut Vec<Real>) {
         let rates = &self.rates;
         push(record, &rates.acceleration[i]);
         record.push(rates.density_rate[i]);
-        push(record, &rates.position_correction[i]);
-        if rates.has_energy() {
+        if self.corrected {
+            push(record, &rates.position_correction[i]);
+        }
+        if self.energy {
             record.push(rates.energy_rate[i]);
         }
     }
@@ -41,11 +43,15 @@ impl<const D: usize> PerParticle for Integrator<D> {
             .as_mut_slice()
             .copy_from_slice(&record[..D]);
         rates.density_rate[i] = record[D];
-        rates.position_correction[i]
-            .as_mut_slice()
-            .copy_from_slice(&record[D + 1..2 * D + 1]);
-        if rates.has_energy() {
-            rates.energy_rate[i] = record[2 * D + 1];
+        let mut next = D + 1;
+        if self.corrected {
+            rates.position_correction[i]
+                .as_mut_slice()
+                .copy_from_slice(&record[next..next + D]);
+            next += D;
+        }
+        if self.energy {
+            rates.energy_rate[i] = record[next];
         }
     }
 
@@ -55,8 +61,8 @@ impl<const D: usize> PerParticle for Integrator<D> {
         let rates = &mut self.rates;
         rates.acceleration.resize(n, zero);
         rates.density_rate.resize(n, 0.0);
-        rates.position_correction.resize(n, zero);
-        let energy = rates.has_energy();
+        resize_if(&mut rates.position_correction, self.corrected, n, zero);
+        let energy = self.energy;
         resize_if(&mut rates.energy_rate, energy, n, 0.0);
         let rk4 = scheme == Scheme::RungeKutta4;
         let accumulated = &mut self.accumulated;
