@@ -33,8 +33,8 @@ pub enum DensityMode {
 /// The physics of one WCSPH rate evaluation, monomorphised over the kernel `K`; the pair loop
 /// of the rates is monomorphised over the viscous and diffusion terms, the particle shift
 /// and the SPS stress as well, resolved from [`ViscousTerm`], [`DiffusionTerm`],
-/// [`WcsphSystem::shifting`] ([`ShiftTerm`]) and [`WcsphSystem::sps`] ([`TurbulenceTerm`])
-/// once per evaluation.
+/// [`WcsphSystem::shifting`] ([`geosph_sph::ShiftTerm`]) and [`WcsphSystem::sps`]
+/// ([`geosph_sph::TurbulenceTerm`]) once per evaluation.
 ///
 /// Momentum in the symmetric, momentum-conserving form (Monaghan 1992, eq. 3.3):
 ///
