@@ -93,3 +93,31 @@ impl<const D: usize> PerParticle for Integrator<D> {
         Integrator::permute(self, permutation);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A record holds a, dρ/dt and, only when enabled, δv and de/dt; the width stays when the
+    /// rank's particles go to zero and come back (a width taken from the arrays' lengths
+    /// would drop δv and de/dt there), and a record round-trips through `pack`/`unpack`.
+    #[test]
+    fn record_width_follows_what_the_rates_carry_through_an_empty_rank() {
+        let mut integrator = Integrator::<2>::new(Scheme::LeapFrog, 3);
+        assert_eq!(integrator.record_width(), 3);
+        assert!(integrator.rates().position_correction.is_empty());
+        integrator.enable_position_correction();
+        integrator.enable_energy();
+        assert_eq!(integrator.record_width(), 6);
+        PerParticle::resize(&mut integrator, 0);
+        PerParticle::resize(&mut integrator, 2);
+        assert_eq!(integrator.record_width(), 6);
+        assert_eq!(integrator.rates().position_correction.len(), 2);
+        assert_eq!(integrator.rates().energy_rate.len(), 2);
+        let record = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        integrator.unpack(1, &record);
+        let mut packed = Vec::new();
+        integrator.pack(1, &mut packed);
+        assert_eq!(packed, record);
+    }
+}
